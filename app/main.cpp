@@ -1,0 +1,43 @@
+// vssim: the command-line entry point. Subcommands dispatch to their own files.
+#include <QCoreApplication>
+#include <QTextStream>
+
+#include "run_command.h"
+
+namespace {
+
+QString mainHelp() {
+    return QStringLiteral(
+        "vssim %1 - simulator of IEEE Very Small Size Soccer robots (DC motors, ball, collisions)\n"
+        "\n"
+        "Usage:\n"
+        "  vssim                 run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
+        "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
+        "  vssim --help          this help\n"
+        "  vssim --version       the version\n"
+        "\n"
+        "Scenes are JSON files (docs/scenes.md); the model is described in docs/model.md.\n")
+        .arg(VSSIM_VERSION);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    QCoreApplication app(argc, argv);
+    QCoreApplication::setApplicationName("vssim");
+    QCoreApplication::setApplicationVersion(VSSIM_VERSION);
+    const QStringList args = QCoreApplication::arguments();
+    if (args.size() < 2) return vssim::demoCommand();
+    const QString command = args[1];
+    if (command == "run") return vssim::runCommand(args.mid(1));
+    if (command == "-h" || command == "--help" || command == "help") {
+        QTextStream(stdout) << mainHelp();
+        return 0;
+    }
+    if (command == "-v" || command == "--version") {
+        QTextStream(stdout) << "vssim " << VSSIM_VERSION << "\n";
+        return 0;
+    }
+    QTextStream(stderr) << "vssim: unknown command \"" << command << "\"\n\n" << mainHelp();
+    return 2;
+}

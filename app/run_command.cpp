@@ -1,0 +1,330 @@
+#include "run_command.h"
+
+#include <QCommandLineParser>
+#include <QDir>
+#include <QElapsedTimer>
+#include <QFile>
+#include <QFileInfo>
+#include <QSaveFile>
+#include <QTextStream>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <unistd.h>
+
+#include "csv_writer.h"
+#include "scene_io.h"
+#include "vssim/world.h"
+
+namespace vssim {
+
+namespace {
+
+constexpr std::int64_t kMaxSteps = 2'000'000'000;  // refuse runs that could not end in reasonable time
+
+QTextStream& err() {
+    static QTextStream stream(stderr);
+    return stream;
+}
+
+struct RunOptions {
+    QString scenePath;
+    double duration = 0.0;                    // s
+    std::optional<double> dt;                 // s
+    std::optional<double> sample;             // s
+    std::optional<Integrator> integrator;
+    std::optional<CollisionModel> collisionModel;
+    QString outPath;                          // empty: stdout
+};
+
+// Parses a finite number with a unit for the message; nullopt and *error set otherwise.
+std::optional<double> parseSeconds(const QString& option, const QString& text, QString* error) {
+    bool ok = false;
+    const double value = text.toDouble(&ok);
+    if (!ok || !std::isfinite(value)) {
+        *error = QStringLiteral("--%1: expected a number of seconds, got \"%2\"").arg(option, text);
+        return std::nullopt;
+    }
+    if (value <= 0.0) {
+        *error = QStringLiteral("--%1: must be > 0 s (got %2)").arg(option, text);
+        return std::nullopt;
+    }
+    return value;
+}
+
+std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString* error, bool* helpAsked) {
+    QCommandLineParser parser;
+    parser.setSingleDashWordOptionMode(QCommandLineParser::ParseAsLongOptions);
+    const QCommandLineOption help({"h", "help"}, "Show this help.");
+    const QCommandLineOption duration("duration", "Simulated time to run, s (required).", "S");
+    const QCommandLineOption dt("dt", "Integration step, s (default: the scene's, 0.001).", "S");
+    const QCommandLineOption integrator("integrator", "euler or rk4 (default: the scene's, rk4).", "NAME");
+    const QCommandLineOption collision("collision-model", "paper or impulse (default: the scene's, paper).",
+                                       "NAME");
+    const QCommandLineOption sample("sample", "Time between CSV samples, s (default: dt).", "S");
+    const QCommandLineOption out("out", "Write the CSV to FILE instead of standard output.", "FILE");
+    parser.addOptions({help, duration, dt, integrator, collision, sample, out});
+    parser.addPositionalArgument("scene", "Scene file (JSON) or built-in scene name.");
+    if (!parser.parse(arguments)) {  // "run" plays the program name
+        *error = parser.errorText();
+        return std::nullopt;
+    }
+    if (parser.isSet(help)) {
+        *helpAsked = true;
+        return std::nullopt;
+    }
+    RunOptions o;
+    const QStringList positional = parser.positionalArguments();
+    if (positional.size() != 1) {
+        *error = positional.isEmpty() ? QStringLiteral("missing the scene file (see vssim run --help)")
+                                      : QStringLiteral("expected one scene file, got %1: %2")
+                                            .arg(positional.size())
+                                            .arg(positional.join(' '));
+        return std::nullopt;
+    }
+    o.scenePath = resolveScenePath(positional[0]);
+    if (o.scenePath.isEmpty()) {
+        *error = QStringLiteral("%1: no such file or built-in scene (built-in: %2)")
+                     .arg(positional[0], builtinSceneNames().join(", "));
+        return std::nullopt;
+    }
+    if (!parser.isSet(duration)) {
+        *error = QStringLiteral("--duration is required (simulated seconds to run)");
+        return std::nullopt;
+    }
+    const auto d = parseSeconds("duration", parser.value(duration), error);
+    if (!d) return std::nullopt;
+    o.duration = *d;
+    if (parser.isSet(dt)) {
+        o.dt = parseSeconds("dt", parser.value(dt), error);
+        if (!o.dt) return std::nullopt;
+        if (*o.dt > 0.1) {
+            *error = QStringLiteral("--dt: must be <= 0.1 s (got %1)").arg(parser.value(dt));
+            return std::nullopt;
+        }
+    }
+    if (parser.isSet(sample)) {
+        o.sample = parseSeconds("sample", parser.value(sample), error);
+        if (!o.sample) return std::nullopt;
+    }
+    if (parser.isSet(integrator)) {
+        o.integrator = integratorFromName(parser.value(integrator));
+        if (!o.integrator) {
+            *error = QStringLiteral("--integrator: expected euler or rk4, got \"%1\"").arg(parser.value(integrator));
+            return std::nullopt;
+        }
+    }
+    if (parser.isSet(collision)) {
+        o.collisionModel = collisionModelFromName(parser.value(collision));
+        if (!o.collisionModel) {
+            *error = QStringLiteral("--collision-model: expected paper or impulse, got \"%1\"")
+                         .arg(parser.value(collision));
+            return std::nullopt;
+        }
+    }
+    o.outPath = parser.value(out);
+    if (parser.isSet(out) && o.outPath.isEmpty()) {
+        *error = QStringLiteral("--out: expected a file name");
+        return std::nullopt;
+    }
+    return o;
+}
+
+// Applies the command-line overrides to the scene and checks the combination.
+bool applyOptions(const RunOptions& o, Scene& scene, QString* error) {
+    if (o.dt) scene.simulation.dt = *o.dt;
+    if (o.integrator) scene.simulation.integrator = *o.integrator;
+    if (o.collisionModel) scene.simulation.collision_model = *o.collisionModel;
+    const double dt = scene.simulation.dt;
+    if (o.sample && *o.sample < dt * (1.0 - 1e-9)) {
+        *error = QStringLiteral("--sample: must be >= dt = %1 s (got %2 s)").arg(dt).arg(*o.sample);
+        return false;
+    }
+    if (static_cast<double>(Simulation::stepIndexAtOrAfter(o.duration, dt)) > kMaxSteps) {
+        *error = QStringLiteral("--duration %1 s at dt = %2 s is more than %3 steps; use a longer --dt or a shorter run")
+                     .arg(o.duration).arg(dt).arg(kMaxSteps);
+        return false;
+    }
+    return true;
+}
+
+class ProgressReporter {
+public:
+    explicit ProgressReporter(std::int64_t total) : total_(total), enabled_(isatty(STDERR_FILENO)) { clock_.start(); }
+    void update(std::int64_t done) {
+        if (!enabled_ || clock_.elapsed() < nextMs_) return;
+        nextMs_ = clock_.elapsed() + 500;
+        err() << QStringLiteral("\rvssim run: %1%").arg(100.0 * done / total_, 0, 'f', 1) << Qt::flush;
+        shown_ = true;
+    }
+    void done() {
+        if (shown_) err() << "\r" << QString(24, ' ') << "\r" << Qt::flush;
+    }
+    qint64 elapsedMs() const { return clock_.elapsed(); }
+
+private:
+    std::int64_t total_;
+    bool enabled_;
+    bool shown_ = false;
+    qint64 nextMs_ = 1000;
+    QElapsedTimer clock_;
+};
+
+}  // namespace
+
+QStringList builtinSceneNames() {
+    QStringList names;
+    for (const QString& file : QDir(":/scenes").entryList({"*.json"}, QDir::Files, QDir::Name))
+        names << QFileInfo(file).completeBaseName();
+    return names;
+}
+
+QString resolveScenePath(const QString& argument) {
+    if (QFileInfo(argument).isFile()) return argument;
+    for (const QString& candidate : {QStringLiteral(":/scenes/%1").arg(argument),
+                                     QStringLiteral(":/scenes/%1.json").arg(argument)})
+        if (!argument.contains('/') && QFileInfo(candidate).isFile()) return candidate;
+    return {};
+}
+
+QString runHelpText() {
+    return QStringLiteral(
+        "Usage: vssim run SCENE --duration S [options]\n"
+        "\n"
+        "Runs SCENE (a JSON scene file, see docs/scenes.md, or a built-in scene name) headless\n"
+        "for S seconds of simulated time and writes CSV, one row per body per sample:\n"
+        "  t,body,x,y,theta,v,omega,e_right,e_left,omega_right,omega_left,i_right,i_left\n"
+        "  (s, name, m, m, rad, m/s, rad/s, V, V, rad/s, rad/s, A, A; for the ball theta is its\n"
+        "  heading, v its speed and the robot-only columns are empty; 17 significant digits)\n"
+        "\n"
+        "Options:\n"
+        "  --duration S            simulated time to run, s (required)\n"
+        "  --dt S                  integration step, s, 0 < S <= 0.1 (default: the scene's, 0.001)\n"
+        "  --integrator NAME       euler | rk4 (default: the scene's, rk4)\n"
+        "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
+        "  --sample S              time between samples, s, >= dt (default: dt)\n"
+        "  --out FILE              write the CSV to FILE (written only if the run succeeds)\n"
+        "  -h, --help              show this help\n"
+        "\n"
+        "Built-in scenes: %1\n"
+        "A summary (steps, contacts, run time, real-time factor) goes to standard error.\n"
+        "Exit status: 0 success, 2 bad option or scene, 1 failed to write the output.\n")
+        .arg(builtinSceneNames().join(", "));
+}
+
+int runCommand(const QStringList& arguments) {
+    QString error;
+    bool helpAsked = false;
+    const std::optional<RunOptions> options = parseRunOptions(arguments, &error, &helpAsked);
+    if (helpAsked) {
+        QTextStream(stdout) << runHelpText();
+        return 0;
+    }
+    if (!options) {
+        err() << "vssim run: " << error << "\n";
+        return 2;
+    }
+    std::optional<Scene> scene = loadSceneFile(options->scenePath, &error);
+    if (!scene) {
+        err() << "vssim run: " << error << "\n";
+        return 2;
+    }
+    if (!applyOptions(*options, *scene, &error)) {
+        err() << "vssim run: " << error << "\n";
+        return 2;
+    }
+
+    std::unique_ptr<QIODevice> device;
+    QSaveFile* saveFile = nullptr;
+    if (options->outPath.isEmpty()) {
+        auto file = std::make_unique<QFile>();
+        file->open(stdout, QIODevice::WriteOnly);
+        device = std::move(file);
+    } else {
+        auto file = std::make_unique<QSaveFile>(options->outPath);
+        if (!file->open(QIODevice::WriteOnly)) {
+            err() << "vssim run: cannot write " << options->outPath << ": " << file->errorString() << "\n";
+            return 2;
+        }
+        saveFile = file.get();
+        device = std::move(file);
+    }
+
+    Simulation simulation(*scene);
+    const double dt = simulation.dt();
+    const std::int64_t lastStep = Simulation::stepIndexAtOrAfter(options->duration, dt);
+    const double sample = options->sample.value_or(dt);
+    CsvWriter csv(device.get());
+    csv.writeHeader();
+    csv.writeSample(simulation);
+    std::int64_t sampleIndex = 1;
+    std::int64_t nextSampleStep = Simulation::stepIndexAtOrAfter(sample, dt);
+    std::int64_t contacts = 0;
+    ProgressReporter progress(lastStep);
+    while (simulation.state().step < lastStep) {
+        contacts += simulation.step().contacts;
+        if (simulation.state().step >= nextSampleStep) {
+            csv.writeSample(simulation);
+            ++sampleIndex;
+            nextSampleStep = std::max(simulation.state().step + 1,
+                                      Simulation::stepIndexAtOrAfter(static_cast<double>(sampleIndex) * sample, dt));
+        }
+        if ((simulation.state().step & 0x3ff) == 0) progress.update(simulation.state().step);
+    }
+    progress.done();
+    if (!csv.finish() || (saveFile && !saveFile->commit())) {
+        err() << "vssim run: failed to write " << (options->outPath.isEmpty() ? "standard output" : options->outPath)
+              << ": " << device->errorString() << "\n";
+        if (saveFile) saveFile->cancelWriting();
+        return 1;
+    }
+    const double seconds = std::max(1e-3, progress.elapsedMs() / 1000.0);
+    err() << QStringLiteral("vssim run: %1 s simulated in %2 steps of %3 s (%4), %5 contacts, %6 s of run time (%7x real time)\n")
+                 .arg(simulation.state().time)
+                 .arg(simulation.state().step)
+                 .arg(dt)
+                 .arg(integratorName(simulation.model().settings.integrator))
+                 .arg(contacts)
+                 .arg(progress.elapsedMs() / 1000.0)
+                 .arg(simulation.state().time / seconds, 0, 'f', 0);
+    return 0;
+}
+
+int demoCommand() {
+    QString error;
+    const std::optional<Scene> scene = loadSceneFile(resolveScenePath("kickoff_3v3"), &error);
+    if (!scene) {
+        err() << "vssim: " << error << "\n";
+        return 1;
+    }
+    Simulation simulation(*scene);
+    const double duration = 5.0;  // s
+    QElapsedTimer clock;
+    clock.start();
+    std::int64_t contacts = 0;
+    while (simulation.state().time < duration - 0.5 * simulation.dt()) contacts += simulation.step().contacts;
+    const double seconds = std::max(1e-6, clock.nsecsElapsed() * 1e-9);
+    QTextStream out(stdout);
+    out << "vssim: built-in scene kickoff_3v3, " << duration << " s simulated in " << seconds * 1e3
+        << " ms (" << QString::number(duration / seconds, 'f', 0) << "x real time), " << contacts
+        << " contacts\n\n";
+    out << QStringLiteral("%1 %2 %3 %4 %5 %6\n")
+               .arg("body", -8).arg("x [m]", 9).arg("y [m]", 9).arg("theta [rad]", 12).arg("v [m/s]", 9)
+               .arg("omega [rad/s]", 14);
+    const WorldState& s = simulation.state();
+    for (std::size_t i = 0; i < s.robots.size(); ++i) {
+        const RobotState& r = s.robots[i];
+        out << QStringLiteral("%1 %2 %3 %4 %5 %6\n")
+                   .arg(QString::fromStdString(scene->robots[i].name), -8)
+                   .arg(r.x, 9, 'f', 4).arg(r.y, 9, 'f', 4).arg(r.theta, 12, 'f', 4).arg(r.v, 9, 'f', 4)
+                   .arg(r.omega, 14, 'f', 4);
+    }
+    out << QStringLiteral("%1 %2 %3 %4 %5\n")
+               .arg("ball", -8).arg(s.ball.x, 9, 'f', 4).arg(s.ball.y, 9, 'f', 4)
+               .arg(std::atan2(s.ball.vy, s.ball.vx), 12, 'f', 4).arg(std::hypot(s.ball.vx, s.ball.vy), 9, 'f', 4);
+    out << "\nNext: vssim run kickoff_3v3 --duration 10 --out run.csv   (see vssim --help)\n";
+    return 0;
+}
+
+}  // namespace vssim

@@ -1,0 +1,32 @@
+// Scene files (JSON, format version 1; docs/scenes.md): reading with errors
+// that name the key path, and writing back with every value explicit.
+#pragma once
+
+#include <QByteArray>
+#include <QString>
+#include <optional>
+
+#include "vssim/scene.h"
+
+namespace vssim {
+
+// Parses a scene. On failure returns nullopt and sets *error to a message
+// that names where, e.g. "robots[2].params.right.resistance: expected a number".
+std::optional<Scene> parseScene(const QByteArray& json, QString* error);
+
+// Reads and parses a file (or a Qt resource path); errors start with the path.
+std::optional<Scene> loadSceneFile(const QString& path, QString* error);
+
+// The complete scene as JSON: every parameter of every robot spelled out,
+// numbers in their shortest round-trip form, so parseScene(sceneToJson(s))
+// reproduces s exactly.
+QByteArray sceneToJson(const Scene& scene);
+
+// The names used in scene files and on the command line.
+QString integratorName(Integrator integrator);
+std::optional<Integrator> integratorFromName(const QString& name);
+QString collisionModelName(CollisionModel model);
+std::optional<CollisionModel> collisionModelFromName(const QString& name);
+QString teamName(Team team);
+
+}  // namespace vssim

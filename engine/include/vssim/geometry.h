@@ -1,0 +1,42 @@
+// Planar geometry of the bodies (model.md §5): a robot is a square of side s
+// centred on its pose; the ball is a disc. All in the field frame, metres.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+
+#include "vssim/robot_state.h"
+
+namespace vssim {
+
+// Vertex j = 0..3 at (s/sqrt2)(cos, sin)(theta + 45deg + 90deg j) from the centre.
+std::array<Eigen::Vector2d, 4> robotVertices(const RobotState& pose, double side);
+
+// The closest point of segment [a, b] to p (paper eqs. 10-11): lambda of the
+// projection clamped to [0, 1].
+struct SegmentClosestPoint {
+    double lambda = 0.0;      // clamped parameter along a -> b
+    Eigen::Vector2d point = Eigen::Vector2d::Zero();  // a + lambda (b - a), m
+    double distance = 0.0;    // |p - point|, m
+};
+SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                          const Eigen::Vector2d& p);
+
+// p expressed in the robot's frame (x forward, y to the left), m.
+Eigen::Vector2d toRobotFrame(const RobotState& pose, const Eigen::Vector2d& p);
+Eigen::Vector2d fromRobotFrame(const RobotState& pose, const Eigen::Vector2d& local);
+
+// The paper's test: |x_r| <= s/2 + margin and |y_r| <= s/2 + margin in the robot's frame.
+bool pointInRobot(const RobotState& pose, double side, const Eigen::Vector2d& p, double margin = 0.0);
+
+// Separating-axis test of two squares. When they overlap, `normal` is the
+// unit axis of least penetration, oriented from B towards A (the direction A
+// must move to separate), and `depth` the penetration along it (m).
+struct SquareOverlap {
+    bool overlapping = false;
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+    double depth = 0.0;
+};
+SquareOverlap squareOverlap(const RobotState& a, double sideA, const RobotState& b, double sideB);
+
+}  // namespace vssim

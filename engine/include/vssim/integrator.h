@@ -1,0 +1,23 @@
+// Fixed-step integrators for the robot (model.md eq. 8) and the ball (eq. 9),
+// with voltages held constant over the step (model.md §7).
+#pragma once
+
+#include "vssim/ball.h"
+#include "vssim/robot_model.h"
+#include "vssim/robot_state.h"
+
+namespace vssim {
+
+enum class Integrator {
+    Euler,  // explicit Euler, first order (the paper's)
+    Rk4,    // classical Runge-Kutta, fourth order (the paper's)
+};
+
+// Advances one robot by h seconds under constant (already clamped) voltages e.
+void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
+                    Integrator method);
+
+// Advances the ball by h seconds (free flight with viscous damping).
+void integrateBall(const BallParams& params, BallState& state, double h, Integrator method);
+
+}  // namespace vssim

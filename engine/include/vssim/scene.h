@@ -1,0 +1,50 @@
+// Everything a run needs, as plain data: the immutable description of a
+// simulation (what a scene file holds). The mutable part is WorldState.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vssim/ball.h"
+#include "vssim/collision_model.h"
+#include "vssim/field.h"
+#include "vssim/integrator.h"
+#include "vssim/robot_params.h"
+#include "vssim/robot_state.h"
+
+namespace vssim {
+
+enum class Team { Yellow, Blue };
+
+struct SimulationSettings {
+    Integrator integrator = Integrator::Rk4;
+    double dt = 0.001;                                 // fixed step h, s
+    CollisionModel collision_model = CollisionModel::Paper;
+    double restitution = 1.0;                          // epsilon in [0, 1], impulse model only
+};
+
+struct RobotSpec {
+    std::string name;      // unique, e.g. "yellow0"
+    Team team = Team::Yellow;
+    RobotParams params;
+    RobotState initial;    // pose and body velocity at t = 0
+};
+
+// A voltage change: from the first step boundary at or after time t, the
+// robot's motors see (right, left) volts until its next command.
+struct VoltageCommand {
+    double t = 0.0;        // s
+    int robot = 0;         // index into Scene::robots
+    Voltages voltages;     // V (clamped to +-max_voltage when applied)
+};
+
+struct Scene {
+    Field field = makeRectangularField(1.50, 1.30);
+    SimulationSettings simulation;
+    BallParams ball_params;
+    BallState ball;        // initial ball state
+    std::vector<RobotSpec> robots;
+    std::vector<VoltageCommand> commands;  // any order; applied in time order, ties in file order
+};
+
+}  // namespace vssim

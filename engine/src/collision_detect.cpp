@@ -1,0 +1,167 @@
+#include "vssim/collision_detect.h"
+
+#include <cmath>
+
+#include "vssim/geometry.h"
+
+namespace vssim {
+
+namespace {
+Eigen::Vector2d centre(const RobotState& r) { return {r.x, r.y}; }
+
+// How far past a segment's ends (in metres) a body may still count as being
+// against it: a body half its size beyond an end is still at that wall.
+bool projectsOntoWall(const Wall& wall, const Eigen::Vector2d& p, double reach) {
+    const Eigen::Vector2d ab = wall.b - wall.a;
+    const double len = ab.norm();
+    const double t = (p - wall.a).dot(ab) / len;
+    return t >= -reach && t <= len + reach;
+}
+}  // namespace
+
+std::optional<Contact> ballWallContact(const BallState& ball, double radius, const Wall& wall, int wallIndex) {
+    const Eigen::Vector2d c(ball.x, ball.y);
+    const double signedDistance = wall.normal.dot(c - wall.a);
+    if (signedDistance >= radius) return std::nullopt;
+    Contact k;
+    k.a = {BodyKind::Ball, 0};
+    k.b = {BodyKind::Wall, wallIndex};
+    if (signedDistance < 0.0) {  // centre behind the wall
+        if (!projectsOntoWall(wall, c, radius)) return std::nullopt;
+        k.normal = wall.normal;
+        k.depth = radius - signedDistance;
+        k.point = c - signedDistance * wall.normal;
+        return k;
+    }
+    const SegmentClosestPoint q = closestPointOnSegment(wall.a, wall.b, c);
+    if (q.distance >= radius) return std::nullopt;
+    k.normal = q.distance > 1e-12 ? Eigen::Vector2d((c - q.point) / q.distance) : wall.normal;
+    k.depth = radius - q.distance;
+    k.point = q.point;
+    return k;
+}
+
+std::optional<Contact> robotWallContact(const RobotState& robot, double side, int robotIndex, const Wall& wall,
+                                        int wallIndex) {
+    // Cheap rejection: no vertex can be beyond the wall when the centre is
+    // more than half a diagonal inside it.
+    if (wall.normal.dot(centre(robot) - wall.a) > side / std::sqrt(2.0)) return std::nullopt;
+    if (!projectsOntoWall(wall, centre(robot), side)) return std::nullopt;
+    double maxDepth = 0.0, weight = 0.0;
+    Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& v : robotVertices(robot, side)) {
+        const double depth = -wall.normal.dot(v - wall.a);
+        if (depth <= 0.0) continue;
+        maxDepth = std::max(maxDepth, depth);
+        weighted += depth * v;
+        weight += depth;
+    }
+    if (weight <= 0.0) return std::nullopt;
+    Contact k;
+    k.a = {BodyKind::Robot, robotIndex};
+    k.b = {BodyKind::Wall, wallIndex};
+    k.normal = wall.normal;
+    k.depth = maxDepth;
+    k.point = weighted / weight;
+    return k;
+}
+
+std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex,
+                                        const BallState& ball, double radius) {
+    const Eigen::Vector2d c(ball.x, ball.y);
+    if ((c - centre(robot)).norm() > radius + side / std::sqrt(2.0)) return std::nullopt;  // cheap rejection
+
+    Contact k;
+    k.a = {BodyKind::Ball, 0};
+    k.b = {BodyKind::Robot, robotIndex};
+    const double half = 0.5 * side;
+    const Eigen::Vector2d local = toRobotFrame(robot, c);
+    if (std::abs(local.x()) < half && std::abs(local.y()) < half) {
+        // Centre inside the square: leave through the face nearest to it.
+        const bool alongX = half - std::abs(local.x()) <= half - std::abs(local.y());
+        const Eigen::Vector2d axis = alongX ? Eigen::Vector2d(local.x() >= 0.0 ? 1.0 : -1.0, 0.0)
+                                            : Eigen::Vector2d(0.0, local.y() >= 0.0 ? 1.0 : -1.0);
+        const double inside = half - std::abs(alongX ? local.x() : local.y());
+        const Eigen::Vector2d onFace = alongX ? Eigen::Vector2d(axis.x() * half, local.y())
+                                              : Eigen::Vector2d(local.x(), axis.y() * half);
+        k.normal = fromRobotFrame(robot, axis) - centre(robot);
+        k.depth = radius + inside;
+        k.point = fromRobotFrame(robot, onFace);
+        return k;
+    }
+    // Paper eqs. 10-11: distance from the ball centre to each side segment.
+    const auto v = robotVertices(robot, side);
+    SegmentClosestPoint best;
+    best.distance = INFINITY;
+    for (int j = 0; j < 4; ++j) {
+        const SegmentClosestPoint q = closestPointOnSegment(v[j], v[(j + 1) % 4], c);
+        if (q.distance < best.distance) best = q;
+    }
+    if (best.distance >= radius) return std::nullopt;
+    k.normal = best.distance > 1e-12 ? Eigen::Vector2d((c - best.point) / best.distance)
+                                     : Eigen::Vector2d((c - centre(robot)).normalized());
+    k.depth = radius - best.distance;
+    k.point = best.point;
+    return k;
+}
+
+std::optional<Contact> robotRobotContact(const RobotState& a, double sideA, int indexA, const RobotState& b,
+                                         double sideB, int indexB) {
+    if ((centre(a) - centre(b)).norm() > (sideA + sideB) / std::sqrt(2.0)) return std::nullopt;
+    const SquareOverlap overlap = squareOverlap(a, sideA, b, sideB);
+    if (!overlap.overlapping) return std::nullopt;
+
+    Contact k;
+    k.a = {BodyKind::Robot, indexA};
+    k.b = {BodyKind::Robot, indexB};
+    k.normal = overlap.normal;
+    k.depth = overlap.depth;
+    // The paper's test, both ways: vertices of one inside the other square.
+    // The tolerance (the depth) keeps vertices of a face lying flat on the
+    // other robot's face.
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int count = 0;
+    for (const Eigen::Vector2d& v : robotVertices(a, sideA))
+        if (pointInRobot(b, sideB, v, 1e-9 + overlap.depth)) sum += v, ++count;
+    for (const Eigen::Vector2d& v : robotVertices(b, sideB))
+        if (pointInRobot(a, sideA, v, 1e-9 + overlap.depth)) sum += v, ++count;
+    if (count > 0) {
+        k.point = sum / count;
+    } else {
+        // No vertex inside: the middle of the overlap on the line of centres.
+        const Eigen::Vector2d mid = 0.5 * (centre(a) + centre(b));
+        k.point = mid;
+    }
+    return k;
+}
+
+std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies) {
+    const std::vector<RobotState>& robots = *bodies.robots;
+    const std::vector<double>& sides = *bodies.sides;
+    const int n = static_cast<int>(robots.size());
+    std::vector<Contact> contacts;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
+    if (bodies.ball) {
+        for (int i = 0; i < n; ++i)
+            if (auto k = robotBallContact(robots[i], sides[i], i, *bodies.ball, bodies.ballRadius))
+                contacts.push_back(*k);
+    }
+    appendWallContacts(field, bodies, contacts);
+    return contacts;
+}
+
+void appendWallContacts(const Field& field, const BodiesView& bodies, std::vector<Contact>& contacts) {
+    const std::vector<RobotState>& robots = *bodies.robots;
+    const int walls = static_cast<int>(field.walls.size());
+    for (int i = 0; i < static_cast<int>(robots.size()); ++i)
+        for (int w = 0; w < walls; ++w)
+            if (auto k = robotWallContact(robots[i], (*bodies.sides)[i], i, field.walls[w], w)) contacts.push_back(*k);
+    if (bodies.ball) {
+        for (int w = 0; w < walls; ++w)
+            if (auto k = ballWallContact(*bodies.ball, bodies.ballRadius, field.walls[w], w)) contacts.push_back(*k);
+    }
+}
+
+}  // namespace vssim

@@ -1,0 +1,66 @@
+#include "vssim/integrator.h"
+
+#include <cmath>
+
+namespace vssim {
+namespace {
+
+// The robot's full state (v, w, x, y, theta) of model.md eq. 8 as a plain
+// vector, so Euler and RK4 are written once over it.
+using RobotVector = Eigen::Matrix<double, 5, 1>;
+
+RobotVector pack(const RobotState& s) { return (RobotVector() << s.v, s.omega, s.x, s.y, s.theta).finished(); }
+
+void unpack(const RobotVector& q, RobotState& s) {
+    s.v = q(0);
+    s.omega = q(1);
+    s.x = q(2);
+    s.y = q(3);
+    s.theta = q(4);
+}
+
+// Right-hand side of eq. 8 for constant voltages.
+RobotVector robotRate(const RobotModel& model, const RobotVector& q, const Voltages& e) {
+    const Eigen::Vector2d du = velocityDerivative(model, q.head<2>(), e);
+    RobotVector r;
+    r << du(0), du(1), q(0) * std::cos(q(4)), q(0) * std::sin(q(4)), q(1);
+    return r;
+}
+
+// The ball's state (x, y, vx, vy) and eq. 9: v' = -(beta_b/m_b) v, p' = v.
+using BallVector = Eigen::Vector4d;
+
+BallVector ballRate(double decay, const BallVector& q) {
+    return BallVector(q(2), q(3), -decay * q(2), -decay * q(3));
+}
+
+template <typename Vector, typename Rate>
+Vector stepOnce(const Vector& q, double h, Integrator method, Rate rate) {
+    if (method == Integrator::Euler) return q + h * rate(q);
+    const Vector k1 = rate(q);
+    const Vector k2 = rate(q + (0.5 * h) * k1);
+    const Vector k3 = rate(q + (0.5 * h) * k2);
+    const Vector k4 = rate(q + h * k3);
+    return q + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+}
+
+}  // namespace
+
+void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
+                    Integrator method) {
+    const RobotVector q =
+        stepOnce(pack(state), h, method, [&](const RobotVector& s) { return robotRate(model, s, e); });
+    unpack(q, state);
+}
+
+void integrateBall(const BallParams& params, BallState& state, double h, Integrator method) {
+    const double decay = params.friction / params.mass;  // 1/s
+    const BallVector q = stepOnce(BallVector(state.x, state.y, state.vx, state.vy), h, method,
+                                  [&](const BallVector& s) { return ballRate(decay, s); });
+    state.x = q(0);
+    state.y = q(1);
+    state.vx = q(2);
+    state.vy = q(3);
+}
+
+}  // namespace vssim

@@ -1,0 +1,56 @@
+// Shared fixtures for the engine tests: parameter sets and small scenes.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "vssim/robot_params.h"
+#include "vssim/scene.h"
+#include "vssim/world.h"
+
+namespace vssim::test {
+
+// A robot whose sides differ everywhere (a real robot's never match).
+inline RobotParams asymmetricParams() {
+    RobotParams p;
+    p.mass = 0.2;
+    p.inertia = 2.1e-4;
+    p.wheel_base = 0.062;
+    p.right = {0.0255, 11.0, 0.095, 1.3e-5, 1.2e-4};
+    p.left = {0.0245, 12.5, 0.085, 0.8e-5, 0.9e-4};
+    return p;
+}
+
+// Relative difference, safe at zero.
+inline double relativeError(double got, double want) {
+    return std::abs(got - want) / std::max(1e-300, std::abs(want));
+}
+
+// FNV-1a over the bytes of every double of a world state: equal hashes mean
+// bit-identical states.
+inline std::uint64_t hashState(const WorldState& s) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](double value) {
+        unsigned char bytes[sizeof value];
+        std::memcpy(bytes, &value, sizeof value);
+        for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
+    };
+    for (const RobotState& r : s.robots)
+        for (double v : {r.x, r.y, r.theta, r.v, r.omega}) mix(v);
+    for (const Voltages& e : s.voltages) mix(e.right), mix(e.left);
+    for (double v : {s.ball.x, s.ball.y, s.ball.vx, s.ball.vy}) mix(v);
+    return h;
+}
+
+inline RobotSpec robotAt(const char* name, double x, double y, double theta, double v = 0.0) {
+    RobotSpec r;
+    r.name = name;
+    r.initial.x = x;
+    r.initial.y = y;
+    r.initial.theta = theta;
+    r.initial.v = v;
+    return r;
+}
+
+}  // namespace vssim::test
