@@ -3,6 +3,7 @@
 #include <QTextStream>
 
 #include "run_command.h"
+#include "stress_command.h"
 
 namespace {
 
@@ -13,6 +14,7 @@ QString mainHelp() {
         "Usage:\n"
         "  vssim                 run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
         "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
+        "  vssim stress ...      numerical-stability stress test on random scenes (vssim stress --help)\n"
         "  vssim --help          this help\n"
         "  vssim --version       the version\n"
         "\n"
@@ -30,6 +32,7 @@ int main(int argc, char** argv) {
     if (args.size() < 2) return vssim::demoCommand();
     const QString command = args[1];
     if (command == "run") return vssim::runCommand(args.mid(1));
+    if (command == "stress") return vssim::stressCommand(args.mid(1));
     if (command == "-h" || command == "--help" || command == "help") {
         QTextStream(stdout) << mainHelp();
         return 0;

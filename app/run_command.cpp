@@ -59,7 +59,7 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     const QCommandLineOption help({"h", "help"}, "Show this help.");
     const QCommandLineOption duration("duration", "Simulated time to run, s (required).", "S");
     const QCommandLineOption dt("dt", "Integration step, s (default: the scene's, 0.001).", "S");
-    const QCommandLineOption integrator("integrator", "euler or rk4 (default: the scene's, rk4).", "NAME");
+    const QCommandLineOption integrator("integrator", "euler, rk4 or exact (default: the scene's, rk4).", "NAME");
     const QCommandLineOption collision("collision-model", "paper or impulse (default: the scene's, paper).",
                                        "NAME");
     const QCommandLineOption sample("sample", "Time between CSV samples, s (default: dt).", "S");
@@ -111,7 +111,7 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     if (parser.isSet(integrator)) {
         o.integrator = integratorFromName(parser.value(integrator));
         if (!o.integrator) {
-            *error = QStringLiteral("--integrator: expected euler or rk4, got \"%1\"").arg(parser.value(integrator));
+            *error = QStringLiteral("--integrator: expected euler, rk4 or exact, got \"%1\"").arg(parser.value(integrator));
             return std::nullopt;
         }
     }
@@ -201,7 +201,9 @@ QString runHelpText() {
         "Options:\n"
         "  --duration S            simulated time to run, s (required)\n"
         "  --dt S                  integration step, s, 0 < S <= 0.1 (default: the scene's, 0.001)\n"
-        "  --integrator NAME       euler | rk4 (default: the scene's, rk4)\n"
+        "  --integrator NAME       euler | rk4 | exact (default: the scene's, rk4); exact solves the\n"
+        "                          motor dynamics in closed form and, between voltage changes and\n"
+        "                          away from contacts, steps straight to the next sample\n"
         "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
         "  --sample S              time between samples, s, >= dt (default: dt)\n"
         "  --out FILE              write the CSV to FILE (written only if the run succeeds)\n"
@@ -263,14 +265,14 @@ int runCommand(const QStringList& arguments) {
     std::int64_t contacts = 0;
     ProgressReporter progress(lastStep);
     while (simulation.state().step < lastStep) {
-        contacts += simulation.step().contacts;
+        contacts += simulation.advanceTo(std::min(lastStep, nextSampleStep)).contacts;
         if (simulation.state().step >= nextSampleStep) {
             csv.writeSample(simulation);
             ++sampleIndex;
             nextSampleStep = std::max(simulation.state().step + 1,
                                       Simulation::stepIndexAtOrAfter(static_cast<double>(sampleIndex) * sample, dt));
         }
-        if ((simulation.state().step & 0x3ff) == 0) progress.update(simulation.state().step);
+        progress.update(simulation.state().step);
     }
     progress.done();
     if (!csv.finish() || (saveFile && !saveFile->commit())) {

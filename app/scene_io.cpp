@@ -13,8 +13,11 @@ namespace vssim {
 
 namespace {
 
+constexpr double kMaxCommandTime = 1e9;  // s (about 32 years): beyond it step indices lose meaning
+
 // Name <-> value tables, one place each.
-const std::pair<const char*, Integrator> kIntegrators[] = {{"euler", Integrator::Euler}, {"rk4", Integrator::Rk4}};
+const std::pair<const char*, Integrator> kIntegrators[] = {{"euler", Integrator::Euler}, {"rk4", Integrator::Rk4},
+                                                            {"exact", Integrator::Exact}};
 const std::pair<const char*, CollisionModel> kCollisionModels[] = {{"paper", CollisionModel::Paper},
                                                                    {"impulse", CollisionModel::Impulse}};
 const std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
@@ -238,6 +241,14 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
         const int indexInTeam = perTeam[r.team]++;
         if (!o.contains("name")) name = teamName(r.team) + QString::number(indexInTeam);
         if (name.isEmpty()) return fail(join(path, "name"), QStringLiteral("must not be empty"));
+        // Names are written unquoted in CSV rows, where "ball" names the ball.
+        for (const QChar ch : name)
+            if (ch == ',' || ch == '"' || ch.category() == QChar::Other_Control)
+                return fail(join(path, "name"),
+                            QStringLiteral("\"%1\" may not contain commas, quotes or control characters (it names CSV rows)")
+                                .arg(name));
+        if (name == QLatin1String("ball"))
+            return fail(join(path, "name"), QStringLiteral("\"ball\" is reserved for the ball"));
         if (names.contains(name)) return fail(join(path, "name"), QStringLiteral("duplicate name \"%1\"").arg(name));
         names.insert(name);
         r.name = name.toStdString();
@@ -261,6 +272,8 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
             !number(o, path, "left", Range::Any, &c.voltages.left))
             return false;
         if (!o.contains("robot")) return fail(join(path, "robot"), QStringLiteral("missing (the name of a robot)"));
+        if (c.t > kMaxCommandTime)
+            return fail(join(path, "t"), QStringLiteral("must be <= %1 s (got %2)").arg(kMaxCommandTime).arg(c.t));
         c.robot = -1;
         for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
             if (QString::fromStdString(scene.robots[r].name) == robot) c.robot = r;
@@ -272,17 +285,26 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
 
 bool SceneReader::insideField(const Scene& scene) {
     const double hx = scene.field.length / 2, hy = scene.field.width / 2;
-    auto check = [&](const QString& path, double x, double y, double half) {
+    // half: the body's half-extent along x and along y, m.
+    auto check = [&](const QString& path, double x, double y, double half, const QString& note) {
+        const QString what = QStringLiteral("%1 m is outside the field (|%2| must be <= %3 m%4)");
         if (std::abs(x) > hx - half)
-            return fail(join(path, "x"), QStringLiteral("%1 m is outside the field (|x| must be <= %2 m)").arg(x).arg(hx - half));
+            return fail(join(path, "x"), what.arg(x, 0, 'g', 10).arg('x').arg(hx - half, 0, 'g', 10).arg(note));
         if (std::abs(y) > hy - half)
-            return fail(join(path, "y"), QStringLiteral("%1 m is outside the field (|y| must be <= %2 m)").arg(y).arg(hy - half));
+            return fail(join(path, "y"), what.arg(y, 0, 'g', 10).arg('y').arg(hy - half, 0, 'g', 10).arg(note));
         return true;
     };
-    if (!check("ball", scene.ball.x, scene.ball.y, scene.ball_params.radius)) return false;
+    if (!check("ball", scene.ball.x, scene.ball.y, scene.ball_params.radius, {})) return false;
     for (std::size_t i = 0; i < scene.robots.size(); ++i) {
-        const RobotSpec& r = scene.robots[i];
-        if (!check(QStringLiteral("robots[%1]").arg(i), r.initial.x, r.initial.y, r.params.side / 2)) return false;
+        const RobotSpec& robot = scene.robots[i];
+        // A square of side s at heading theta reaches (s/2)(|cos| + |sin|) along x and y.
+        const double turn = std::abs(std::cos(robot.initial.theta)) + std::abs(std::sin(robot.initial.theta));
+        const QString note = std::abs(turn - 1.0) > 1e-9
+                                 ? QStringLiteral(" at heading %1 rad").arg(robot.initial.theta, 0, 'g', 6)
+                                 : QString();
+        if (!check(QStringLiteral("robots[%1]").arg(i), robot.initial.x, robot.initial.y,
+                   0.5 * robot.params.side * turn, note))
+            return false;
     }
     return true;
 }

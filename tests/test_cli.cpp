@@ -151,7 +151,7 @@ void TestCli::badInput_data() {
     QTest::newRow("nan duration") << QStringList{"run", ok, "--duration", "nan"} << "" << "--duration: expected a number";
     QTest::newRow("text dt") << QStringList{"run", ok, "--duration", "1", "--dt", "fast"} << "" << "--dt: expected a number of seconds, got \"fast\"";
     QTest::newRow("huge dt") << QStringList{"run", ok, "--duration", "1", "--dt", "0.5"} << "" << "--dt: must be <= 0.1 s";
-    QTest::newRow("bad integrator") << QStringList{"run", ok, "--duration", "1", "--integrator", "rk45"} << "" << "--integrator: expected euler or rk4, got \"rk45\"";
+    QTest::newRow("bad integrator") << QStringList{"run", ok, "--duration", "1", "--integrator", "rk45"} << "" << "--integrator: expected euler, rk4 or exact, got \"rk45\"";
     QTest::newRow("bad collision model") << QStringList{"run", ok, "--duration", "1", "--collision-model", "soft"} << "" << "--collision-model: expected paper or impulse";
     QTest::newRow("sample below dt") << QStringList{"run", ok, "--duration", "1", "--sample", "0.0001"} << "" << "--sample: must be >= dt";
     QTest::newRow("too many steps") << QStringList{"run", ok, "--duration", "1e9", "--dt", "0.0001"} << "" << "steps";

@@ -182,7 +182,7 @@ void TestSceneIo::badInput_data() {
     QTest::newRow("dt too long") << QByteArray(R"({"simulation": {"dt": 0.5}})") << "simulation.dt: must be <= 0.1 s";
     QTest::newRow("infinite") << QByteArray(R"({"ball": {"vx": 1e999}})") << "line 1, column 22: illegal number";  // Qt rejects it as it parses
     QTest::newRow("bad integrator") << QByteArray(R"({"simulation": {"integrator": "rk45"}})")
-                                    << "simulation.integrator: expected one of \"euler\", \"rk4\" (got \"rk45\")";
+                                    << "simulation.integrator: expected one of \"euler\", \"rk4\", \"exact\" (got \"rk45\")";
     QTest::newRow("bad team") << QByteArray(R"({"robots": [{"team": "red"}]})")
                               << "robots[0].team: expected one of \"yellow\", \"blue\" (got \"red\")";
     QTest::newRow("duplicate name") << QByteArray(R"({"robots": [{"name": "a", "x": 0.1}, {"name": "a"}]})")
@@ -194,6 +194,16 @@ void TestSceneIo::badInput_data() {
                                    << "commands[0].t: must be >= 0";
     QTest::newRow("robot outside") << QByteArray(R"({"robots": [{"x": 0.74}]})")
                                    << "robots[0].x: 0.74 m is outside the field";
+    QTest::newRow("robot corner outside") << QByteArray(R"({"robots": [{"x": 0.7125, "theta": 0.7853981633974483}]})")
+                                          << "robots[0].x: 0.7125 m is outside the field (|x| must be <= 0.6969669914 m at heading 0.785398 rad)";
+    QTest::newRow("command too late") << QByteArray(R"({"robots": [{}], "commands": [{"t": 1e300, "robot": "yellow0"}]})")
+                                      << "commands[0].t: must be <= 1e+09 s (got 1e+300)";
+    QTest::newRow("comma in name") << QByteArray(R"({"robots": [{"name": "a,b"}]})")
+                                   << "robots[0].name: \"a,b\" may not contain commas";
+    QTest::newRow("newline in name") << QByteArray(R"({"robots": [{"name": "a\nb"}]})")
+                                     << "robots[0].name: \"a\nb\" may not contain commas, quotes or control characters";
+    QTest::newRow("name ball") << QByteArray(R"({"robots": [{"name": "ball"}]})")
+                               << "robots[0].name: \"ball\" is reserved for the ball";
     QTest::newRow("ball outside") << QByteArray(R"({"ball": {"y": -0.64}})") << "ball.y: -0.64 m is outside the field";
     QTest::newRow("version") << QByteArray(R"({"version": 2})") << "version: unsupported version 2";
 }

@@ -3,8 +3,8 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 
+#include "state_hash.h"
 #include "vssim/robot_params.h"
 #include "vssim/scene.h"
 #include "vssim/world.h"
@@ -28,20 +28,8 @@ inline double relativeError(double got, double want) {
 }
 
 // FNV-1a over the bytes of every double of a world state: equal hashes mean
-// bit-identical states.
-inline std::uint64_t hashState(const WorldState& s) {
-    std::uint64_t h = 1469598103934665603ull;
-    auto mix = [&h](double value) {
-        unsigned char bytes[sizeof value];
-        std::memcpy(bytes, &value, sizeof value);
-        for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-    };
-    for (const RobotState& r : s.robots)
-        for (double v : {r.x, r.y, r.theta, r.v, r.omega}) mix(v);
-    for (const Voltages& e : s.voltages) mix(e.right), mix(e.left);
-    for (double v : {s.ball.x, s.ball.y, s.ball.vx, s.ball.vy}) mix(v);
-    return h;
-}
+// bit-identical states (app/state_hash.h, shared with `vssim stress`).
+using vssim::hashState;
 
 inline RobotSpec robotAt(const char* name, double x, double y, double theta, double v = 0.0) {
     RobotSpec r;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "vssim/broad_phase.h"
 #include "vssim/geometry.h"
 
 namespace vssim {
@@ -140,9 +141,17 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
     const std::vector<double>& sides = *bodies.sides;
     const int n = static_cast<int>(robots.size());
     std::vector<Contact> contacts;
-    for (int i = 0; i < n; ++i)
-        for (int j = i + 1; j < n; ++j)
+    if (bodies.broadPhase) {
+        BroadPhaseScratch scratch;
+        std::vector<std::pair<int, int>> pairs;
+        candidatePairs(robots, sides, 0.0, scratch, pairs);
+        for (const auto& [i, j] : pairs)
             if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
+    } else {
+        for (int i = 0; i < n; ++i)
+            for (int j = i + 1; j < n; ++j)
+                if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
+    }
     if (bodies.ball) {
         for (int i = 0; i < n; ++i)
             if (auto k = robotBallContact(robots[i], sides[i], i, *bodies.ball, bodies.ballRadius))

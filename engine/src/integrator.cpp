@@ -1,5 +1,7 @@
 #include "vssim/integrator.h"
 
+#include "vssim/exact_integrator.h"
+
 #include <cmath>
 
 namespace vssim {
@@ -48,12 +50,20 @@ Vector stepOnce(const Vector& q, double h, Integrator method, Rate rate) {
 
 void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
                     Integrator method) {
+    if (method == Integrator::Exact) {
+        integrateRobotExact(model, makeExactStepTable(model, h, exactPanelsFor(model, state, e, h)), state, e);
+        return;
+    }
     const RobotVector q =
         stepOnce(pack(state), h, method, [&](const RobotVector& s) { return robotRate(model, s, e); });
     unpack(q, state);
 }
 
 void integrateBall(const BallParams& params, BallState& state, double h, Integrator method) {
+    if (method == Integrator::Exact) {
+        integrateBallExact(params, state, h);
+        return;
+    }
     const double decay = params.friction / params.mass;  // 1/s
     const BallVector q = stepOnce(BallVector(state.x, state.y, state.vx, state.vy), h, method,
                                   [&](const BallVector& s) { return ballRate(decay, s); });

@@ -6,6 +6,36 @@
 
 namespace vssim {
 
+namespace {
+
+// The modes of A (model.md §2): real eigenvalues lambda_1 >= lambda_2 (the
+// slowest first) and the projectors P_1 = (A - lambda_2 I)/(lambda_1 - lambda_2),
+// P_2 = I - P_1. When the two rates (nearly) coincide, A is (nearly) a
+// multiple of I: one mode with P = I, at the slower rate.
+void computeModes(RobotModel& m) {
+    const double half = 0.5 * m.A.trace();
+    const double disc = std::max(0.0, half * half - m.A.determinant());  // >= 0 in exact arithmetic
+    const double root = std::sqrt(disc);
+    m.modeRate = {half + root, half - root};
+    m.fastestRate = std::max(std::abs(m.modeRate[0]), std::abs(m.modeRate[1]));
+    const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
+    if (root > 1e-9 * m.fastestRate) {
+        m.modeProjector[0] = (m.A - m.modeRate[1] * I) / (2.0 * root);
+        m.modeProjector[1] = I - m.modeProjector[0];
+    } else {
+        m.modeRate[1] = m.modeRate[0];
+        m.modeProjector[0] = I;
+        m.modeProjector[1] = Eigen::Matrix2d::Zero();
+    }
+    // From rest, under the voltages within +-e_max that turn fastest.
+    const double e = m.params.max_voltage;
+    m.maxYawRate = 0.0;
+    for (const Voltages& corner : {Voltages{e, -e}, Voltages{-e, e}, Voltages{e, e}, Voltages{e, 0.0}, Voltages{0.0, e}})
+        m.maxYawRate = std::max(m.maxYawRate, velocityBound(m, RobotState{}, corner)(1));
+}
+
+}  // namespace
+
 RobotModel makeRobotModel(const RobotParams& p) {
     RobotModel m;
     m.params = p;
@@ -35,6 +65,8 @@ RobotModel makeRobotModel(const RobotParams& p) {
     m.Minv = m.M.inverse();
     m.A = -m.Minv * m.B;
     m.G = m.Minv * m.K;
+    m.steadyGain = m.B.lu().solve(m.K);
+    computeModes(m);
     return m;
 }
 
@@ -53,6 +85,38 @@ Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2
 
 Eigen::Vector2d steadyStateVelocity(const RobotModel& model, const Voltages& e) {
     return model.B.lu().solve(model.K * Eigen::Vector2d(e.right, e.left));
+}
+
+Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
+    const Eigen::Vector2d u0(state.v, state.omega);
+    const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    Eigen::Vector2d bound = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 2; ++k)
+        bound += (model.modeProjector[k] * u0).cwiseAbs().cwiseMax((model.modeProjector[k] * target).cwiseAbs());
+    if (!bound.allFinite()) return Eigen::Vector2d::Constant(INFINITY);
+    return bound;
+}
+
+double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
+    const Eigen::Vector2d bound = velocityBound(model, state, e);
+    return bound(0) + model.params.side / std::sqrt(2.0) * bound(1);
+}
+
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
+    const double rho = model.params.side / std::sqrt(2.0);  // m
+    const Eigen::Vector2d u0(state.v, state.omega);
+    const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    double travel = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        const Eigen::Vector2d start = model.modeProjector[k] * u0, end = model.modeProjector[k] * target;
+        const double startSpeed = std::abs(start(0)) + rho * std::abs(start(1));  // m/s
+        const double endSpeed = std::abs(end(0)) + rho * std::abs(end(1));        // m/s
+        // int_0^T e^(l t) dt = (1 - e^(l T)) / (-l), or T when l = 0.
+        const double rate = model.modeRate[k];
+        const double decaying = rate < 0.0 ? -std::expm1(rate * T) / -rate : T;  // s
+        travel += startSpeed * decaying + endSpeed * (T - decaying);
+    }
+    return std::isfinite(travel) ? travel : INFINITY;
 }
 
 RobotOutputs computeRobotOutputs(const RobotModel& model, const RobotState& state, const Voltages& e) {

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vssim/broad_phase.h"
 #include "vssim/collision_detect.h"
 #include "vssim/collision_response.h"
+#include "vssim/geometry.h"
 #include "vssim/integrator.h"
 
 namespace vssim {
@@ -17,23 +19,13 @@ constexpr int kContactPasses = 8;
 // body is left outside the field.
 constexpr int kContainmentPasses = 2;
 
-double robotReachSpeed(const RobotModel& m, const RobotState& r, const Voltages& e) {
-    // A bound on the fastest point of the robot over a step: the larger of the
-    // current and the steady-state body velocity (motion under constant
-    // voltage is a damped approach to the steady state).
-    const double radius = m.params.side / std::sqrt(2.0);
-    const Eigen::Vector2d target = steadyStateVelocity(m, e);
-    const double now = std::abs(r.v) + std::abs(r.omega) * radius;
-    const double later = std::abs(target(0)) + std::abs(target(1)) * radius;
-    return std::max(now, later);
-}
-
-int substepsFor(const WorldModel& model, const WorldState& state, double h) {
+int substepsFor(const WorldModel& model, const WorldState& state, double h, const StepOptions& options) {
     double smallest = model.ball.radius;
-    double fastest = std::hypot(state.ball.vx, state.ball.vy);
+    double fastest = options.freeBall ? 0.0 : std::hypot(state.ball.vx, state.ball.vy);
     for (std::size_t i = 0; i < state.robots.size(); ++i) {
         smallest = std::min(smallest, 0.5 * model.sides[i]);
-        fastest = std::max(fastest, robotReachSpeed(model.robots[i], state.robots[i], state.voltages[i]));
+        if (options.freeRobots && (*options.freeRobots)[i]) continue;
+        fastest = std::max(fastest, pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]));
     }
     const double travel = fastest * h;
     const double allowed = kMaxTravelFraction * smallest;
@@ -60,6 +52,12 @@ void flushToRest(WorldState& state) {
     flushToRest(state.ball.vy);
 }
 
+bool atRest(const RobotState& r, const Voltages& e) {
+    return r.v == 0.0 && r.omega == 0.0 && e.right == 0.0 && e.left == 0.0;
+}
+
+bool atRest(const BallState& b) { return b.vx == 0.0 && b.vy == 0.0; }
+
 }  // namespace
 
 WorldModel makeWorldModel(const Scene& scene) {
@@ -84,18 +82,43 @@ WorldState initialWorldState(const Scene& scene) {
     return s;
 }
 
-StepReport stepWorld(const WorldModel& model, WorldState& state, double h) {
+static void integrateRobotBy(const WorldModel& model, WorldState& state, std::size_t i, double h, ExactTableCache* tables) {
+    RobotState& robot = state.robots[i];
+    if (atRest(robot, state.voltages[i])) return;  // nothing would change
+    const RobotModel& robotModel = model.robots[i];
+    if (model.settings.integrator != Integrator::Exact) {
+        integrateRobot(robotModel, robot, state.voltages[i], h, model.settings.integrator);
+        return;
+    }
+    const int panels = exactPanelsFor(robotModel, robot, state.voltages[i], h);
+    if (tables)
+        integrateRobotExact(robotModel, tables->table(static_cast<int>(i), robotModel, h, panels), robot, state.voltages[i]);
+    else
+        integrateRobotExact(robotModel, makeExactStepTable(robotModel, h, panels), robot, state.voltages[i]);
+}
+
+StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const StepOptions& options) {
     StepReport report;
-    report.substeps = substepsFor(model, state, h);
+    report.substeps = substepsFor(model, state, h, options);
+    if (report.substeps > 1 && model.settings.integrator != Integrator::Exact) {
+        // Splitting only matters where a body could reach something within
+        // h; far from everything a long step cannot tunnel through anything.
+        // (The exact integrator gets this from Simulation::advanceTo's plan,
+        // which keeps long and fixed steps in agreement.)
+        FreeBodies free;
+        findFreeBodies(model, state, h, free);
+        if (free.all) report.substeps = 1;
+    }
     const double sub = h / report.substeps;
-    const Integrator method = model.settings.integrator;
     Bodies bodies{&state.robots, &model.robots, &state.ball, &model.ball};
-    const BodiesView view{&state.robots, &model.sides, &state.ball, model.ball.radius};
+    const BodiesView view{&state.robots, &model.sides, &state.ball, model.ball.radius, model.settings.broad_phase};
 
     for (int s = 0; s < report.substeps; ++s) {
         for (std::size_t i = 0; i < state.robots.size(); ++i)
-            integrateRobot(model.robots[i], state.robots[i], state.voltages[i], sub, method);
-        integrateBall(model.ball, state.ball, sub, method);
+            if (!options.frozen || !options.freeRobots || !(*options.freeRobots)[i])
+                integrateRobotBy(model, state, i, sub, options.tables);
+        if (!(options.frozen && options.freeBall) && !atRest(state.ball))
+            integrateBall(model.ball, state.ball, sub, model.settings.integrator);
         flushToRest(state);
 
         bool touching = false;
@@ -128,20 +151,246 @@ Simulation::Simulation(const Scene& scene)
 }
 
 std::int64_t Simulation::stepIndexAtOrAfter(double t, double dt) {
-    const double steps = t / dt;
-    return std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil(steps - 1e-9)));
+    const double steps = std::ceil(t / dt - 1e-9);
+    // Saturate instead of overflowing the conversion (undefined behaviour):
+    // a command beyond 2^62 steps is never reached. NaN counts as never, too.
+    constexpr double kNever = 4.6e18;
+    if (!(steps < kNever)) return static_cast<std::int64_t>(kNever);
+    return std::max<std::int64_t>(0, static_cast<std::int64_t>(steps));
 }
 
 void Simulation::setVoltages(int robot, const Voltages& e) {
     state_.voltages[robot] = clampVoltages(model_.robots[robot].params, e);
 }
 
-StepReport Simulation::step() {
+void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {
         const ScheduledCommand& c = schedule_[nextCommand_++];
         setVoltages(c.robot, c.voltages);
     }
-    const StepReport report = stepWorld(model_, state_, model_.settings.dt);
+}
+
+// How far robot i can go within `horizon` as the integrator computes it.
+// The exact integrator follows the true trajectory, which robotTravelBound
+// bounds. Euler's and RK4's intermediate velocities can overshoot the true
+// ones (by up to about 1.5 times at the edge of RK4's stability region), so
+// for them: twice the speed bound, and only for one step well inside their
+// stability regions; beyond that nothing is promised.
+static double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon) {
+    const RobotModel& robot = model.robots[i];
+    if (model.settings.integrator == Integrator::Exact)
+        return robotTravelBound(robot, state.robots[i], state.voltages[i], horizon);
+    if (!(horizon * robot.fastestRate <= 2.0)) return INFINITY;
+    return 2.0 * pointSpeedBound(robot, state.robots[i], state.voltages[i]) * horizon;
+}
+
+void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out) {
+    const std::size_t n = state.robots.size();
+    out.robotTravel.resize(n);
+    double farthest = 0.0;  // m
+    for (std::size_t i = 0; i < n; ++i) {
+        out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon);
+        farthest = std::max(farthest, out.robotTravel[i]);
+    }
+    // Free flight of the ball is a straight line of length |v0| (1 - e^(-k T)) / k.
+    const double decay = model.ball.friction / model.ball.mass;  // 1/s
+    const double speed = std::hypot(state.ball.vx, state.ball.vy);
+    out.ballTravel = speed * (decay > 0.0 ? -std::expm1(-decay * horizon) / decay : horizon);
+    farthest = std::max(farthest, out.ballTravel);
+    out.robots.assign(n, 1);
+    out.ball = true;
+    out.all = false;
+    if (!std::isfinite(farthest)) {
+        out.robots.assign(n, 0);
+        out.ball = false;
+        return;
+    }
+    // Discs around the centres that hold each body at any heading, m.
+    auto reach = [&model](std::size_t i) { return model.sides[i] / std::sqrt(2.0); };
+    const Eigen::Vector2d ball(state.ball.x, state.ball.y);
+    for (const Wall& w : model.field.walls) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
+            if (!(closestPointOnSegment(w.a, w.b, c).distance - reach(i) > out.robotTravel[i])) out.robots[i] = 0;
+        }
+        if (!(closestPointOnSegment(w.a, w.b, ball).distance - model.ball.radius > out.ballTravel)) out.ball = false;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
+        if (!((c - ball).norm() - reach(i) - model.ball.radius > out.robotTravel[i] + out.ballTravel))
+            out.robots[i] = 0, out.ball = false;
+    }
+    // Only pairs whose discs, grown by the farthest any body can go, overlap
+    // can limit each other.
+    out.pairs.clear();
+    if (model.settings.broad_phase) {
+        candidatePairs(state.robots, model.sides, farthest, out.broadPhase, out.pairs);
+    } else {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j) out.pairs.emplace_back(int(i), int(j));
+    }
+    for (const auto& [i, j] : out.pairs) {
+        const double gap = std::hypot(state.robots[i].x - state.robots[j].x, state.robots[i].y - state.robots[j].y) -
+                           reach(i) - reach(j);
+        if (!(gap > out.robotTravel[i] + out.robotTravel[j])) out.robots[i] = 0, out.robots[j] = 0;
+    }
+    out.all = out.ball && std::all_of(out.robots.begin(), out.robots.end(), [](char f) { return f != 0; });
+}
+
+std::int64_t Simulation::contactFreeSteps(std::int64_t wanted) const {
+    // The largest k <= wanted for which every body is free for k steps
+    // (freedom only shrinks as the horizon grows): a bisection.
+    FreeBodies free;
+    auto allFree = [&](std::int64_t k) {
+        findFreeBodies(model_, state_, static_cast<double>(k) * model_.settings.dt, free);
+        return free.all;
+    };
+    if (wanted <= 0 || !allFree(1)) return 0;
+    if (allFree(wanted)) return wanted;
+    std::int64_t lo = 1, hi = wanted;  // allFree(lo), !allFree(hi)
+    while (hi - lo > 1) {
+        const std::int64_t mid = lo + (hi - lo) / 2;
+        (allFree(mid) ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+void Simulation::advanceBodies(double h, const std::vector<char>* robots, bool ball) {
+    for (std::size_t i = 0; i < state_.robots.size(); ++i)
+        if (!robots || (*robots)[i]) integrateRobotBy(model_, state_, i, h, &tables_);
+    if (ball && !atRest(state_.ball)) integrateBallExact(model_.ball, state_.ball, h);
+    flushToRest(state_);
+}
+
+void Simulation::finishStep(std::int64_t steps) {
+    state_.step += steps;
+    state_.time = static_cast<double>(state_.step) * model_.settings.dt;
+}
+
+std::int64_t Simulation::ordinaryStep() {
+    const std::int64_t contacts = stepWorld(model_, state_, model_.settings.dt, cachedTables()).contacts;
+    finishStep(1);
+    return contacts;
+}
+
+bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) {
+    // A frozen body i, still at its start p_i0, moves at most travel_i in the
+    // whole stretch. A stepping body j, now at p_j with its current state (a
+    // collision may have sped it up), moves at most its travel bound over
+    // the remaining time. Both discs must stay apart.
+    findFreeBodies(model_, state_, remaining, free_);  // for the stepping bodies' travel bounds
+    const std::size_t n = state_.robots.size();
+    auto reach = [this, n](std::size_t b) { return b < n ? model_.sides[b] / std::sqrt(2.0) : model_.ball.radius; };
+    for (std::size_t j = 0; j <= n; ++j) {
+        if (start.frozen[j]) continue;
+        const double pjX = j < n ? state_.robots[j].x : state_.ball.x;
+        const double pjY = j < n ? state_.robots[j].y : state_.ball.y;
+        const double jTravel = j < n ? free_.robotTravel[j] : free_.ballTravel;
+        for (std::size_t i = 0; i <= n; ++i) {
+            if (!start.frozen[i]) continue;
+            const double distance = std::hypot(pjX - start.x[i], pjY - start.y[i]);
+            if (!(distance - reach(i) - reach(j) > start.travel[i] + jTravel)) return false;
+        }
+    }
+    return true;
+}
+
+AdvanceReport Simulation::advanceTo(std::int64_t target) {
+    AdvanceReport report;
+    const std::int64_t first = state_.step;
+    // The exact integrator plans each stretch between voltage changes; with
+    // long steps it also skips the free bodies' steps.
+    const bool plan = model_.settings.integrator == Integrator::Exact;
+    const bool skip = plan && model_.settings.long_steps;
+    const double dt = model_.settings.dt;
+    const std::size_t n = state_.robots.size();
+    while (state_.step < target) {
+        applyDueCommands();
+        std::int64_t next = target;
+        if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
+        const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
+        if (!plan) {
+            report.contacts += ordinaryStep();
+            ++report.stepCalls;
+            continue;
+        }
+        const double horizon = static_cast<double>(stretch) * dt;  // s
+        findFreeBodies(model_, state_, horizon, free_);
+        if (free_.all && skip) {  // nothing can touch anything: one step to the next voltage change
+            advanceBodies(horizon, nullptr, true);
+            finishStep(stretch);
+            ++report.longSteps;
+            continue;
+        }
+        const bool someFree = free_.ball || std::any_of(free_.robots.begin(), free_.robots.end(), [](char f) { return f != 0; });
+        if (!someFree) {
+            // Everybody may touch something before the stretch ends, but maybe
+            // not soon: try shorter steps of a power of two times dt (few step
+            // lengths, so their tables stay cached), else one ordinary step.
+            std::int64_t steps = 1;
+            if (skip) {
+                while (steps * 2 < stretch) steps *= 2;
+                for (; steps >= 2; steps /= 4) {
+                    findFreeBodies(model_, state_, static_cast<double>(steps) * dt, free_);
+                    if (free_.all) break;
+                }
+            }
+            if (steps >= 2) {
+                advanceBodies(static_cast<double>(steps) * dt, nullptr, true);
+                finishStep(steps);
+                ++report.longSteps;
+            } else {
+                report.contacts += ordinaryStep();
+                ++report.stepCalls;
+            }
+            continue;
+        }
+        // Some bodies are free for the whole stretch: they stay where they are
+        // while the others take steps of dt (no contact with them is possible
+        // on the way), then they take the whole stretch in one step. Should a
+        // contact among the others leave one of them able to reach a free body
+        // after all, the free ones catch up to the present and the rest of the
+        // stretch is planned again. Without long steps the free bodies are
+        // integrated with the others, step by step, and the plan is the same:
+        // free bodies never decide the sub-steps (stepWorld), so the two agree.
+        FrozenStart& start = frozenStart_;
+        start.frozen.assign(free_.robots.begin(), free_.robots.end());
+        start.frozen.push_back(free_.ball);
+        start.x.resize(n + 1);
+        start.y.resize(n + 1);
+        start.travel.assign(free_.robotTravel.begin(), free_.robotTravel.end());
+        start.travel.push_back(free_.ballTravel);
+        for (std::size_t i = 0; i < n; ++i) start.x[i] = state_.robots[i].x, start.y[i] = state_.robots[i].y;
+        start.x[n] = state_.ball.x;
+        start.y[n] = state_.ball.y;
+        frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
+        StepOptions options;
+        options.freeRobots = &frozenRobots_;
+        options.freeBall = start.frozen[n] != 0;
+        options.frozen = skip;
+        options.tables = &tables_;
+        std::int64_t done = 0;
+        bool stillSafe = true;
+        while (done < stretch && stillSafe) {
+            const StepReport r = stepWorld(model_, state_, dt, options);
+            report.contacts += r.contacts;
+            ++report.stepCalls;
+            ++done;
+            if (r.contacts > 0 && done < stretch) stillSafe = frozenStillSafe(start, static_cast<double>(stretch - done) * dt);
+        }
+        if (skip) {  // the frozen bodies catch up: by the whole stretch, or to the present
+            advanceBodies(static_cast<double>(done) * dt, &frozenRobots_, options.freeBall);
+            ++report.longSteps;
+        }
+        finishStep(done);
+    }
+    report.steps = state_.step - first;
+    return report;
+}
+
+StepReport Simulation::step() {
+    applyDueCommands();
+    const StepReport report = stepWorld(model_, state_, model_.settings.dt, cachedTables());
     ++state_.step;
     state_.time = static_cast<double>(state_.step) * model_.settings.dt;
     return report;

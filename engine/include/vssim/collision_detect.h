@@ -43,6 +43,7 @@ struct BodiesView {
     const std::vector<double>* sides = nullptr;  // side of each robot, m
     const BallState* ball = nullptr;
     double ballRadius = 0.0;
+    bool broadPhase = true;  // robot pairs from broad_phase.h instead of all pairs (same contacts)
 };
 std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies);
 

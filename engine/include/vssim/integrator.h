@@ -11,9 +11,12 @@ namespace vssim {
 enum class Integrator {
     Euler,  // explicit Euler, first order (the paper's)
     Rk4,    // classical Runge-Kutta, fourth order (the paper's)
+    Exact,  // closed-form velocity and heading, Gauss-Legendre position (exact_integrator.h)
 };
 
 // Advances one robot by h seconds under constant (already clamped) voltages e.
+// For Integrator::Exact this builds the step's table each call; the world
+// precomputes and reuses them instead (exact_integrator.h).
 void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
                     Integrator method);
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 
 #include "vssim/robot_params.h"
 #include "vssim/robot_state.h"
@@ -19,6 +20,17 @@ struct RobotModel {
     Eigen::Matrix2d Minv;   // M^-1
     Eigen::Matrix2d A;      // -M^-1 B: u' = A u + G e
     Eigen::Matrix2d G;      // M^-1 K
+    Eigen::Matrix2d steadyGain;  // B^-1 K: u_inf = steadyGain e, [m/(V s); rad/(V s)]
+
+    // The two modes of the velocity dynamics: exp(A t) = sum_k e^(rate_k t) P_k.
+    // A = -M^-1 B with M and B symmetric positive definite is similar to a
+    // symmetric negative definite matrix, so the rates are real and negative
+    // and A is diagonalizable. Used to bound speeds and travel (below) when
+    // choosing step lengths (exact_integrator.h, world.h).
+    std::array<double, 2> modeRate{};              // lambda_k, 1/s (<= 0), slowest first
+    std::array<Eigen::Matrix2d, 2> modeProjector;  // P_k, P_1 + P_2 = I
+    double fastestRate = 0.0;                      // max |lambda_k|, 1/s
+    double maxYawRate = 0.0;  // |w| bound under any voltages within +-max_voltage, from rest, rad/s
 };
 
 RobotModel makeRobotModel(const RobotParams& params);
@@ -32,6 +44,25 @@ Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2
 
 // u_inf = B^-1 K e, the steady state under constant voltages.
 Eigen::Vector2d steadyStateVelocity(const RobotModel& model, const Voltages& e);
+
+// Bounds on |v(t)| and |w(t)| for all t >= 0 while the voltages stay e and
+// nothing touches the robot: with u(t) = sum_k [e^(rate_k t) P_k u0 +
+// (1 - e^(rate_k t)) P_k u_inf], each mode's share lies between its start
+// and its end, so |u_j(t)| <= sum_k max(|(P_k u0)_j|, |(P_k u_inf)_j|).
+// (m/s, rad/s); infinite when the state or the model is not finite.
+Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, const Voltages& e);
+
+// A bound on the speed of every point of the robot, |v| + |w| s/sqrt2, m/s,
+// at every time t >= 0 under the same conditions (from velocityBound).
+double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e);
+
+// A bound on how far any point of the robot can move within T seconds while
+// the voltages stay e and nothing touches it, m: the integral over [0, T] of
+// sum_k [e^(rate_k t) |D P_k u0|_1 + (1 - e^(rate_k t)) |D P_k u_inf|_1],
+// D = diag(1, s/sqrt2), in closed form. Exact for a robot whose modes each
+// keep one sign; much tighter than pointSpeedBound * T for a robot that
+// starts slow. Infinite when the state or the model is not finite.
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
 
 // Quantities a user wants to see; not part of the state.
 struct RobotOutputs {

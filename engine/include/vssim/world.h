@@ -9,10 +9,13 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vssim/ball.h"
+#include "vssim/broad_phase.h"
 #include "vssim/contact.h"
+#include "vssim/exact_integrator.h"
 #include "vssim/field.h"
 #include "vssim/robot_model.h"
 #include "vssim/robot_state.h"
@@ -47,13 +50,49 @@ struct StepReport {
     int responses = 0;  // contacts whose velocities changed
 };
 
+// What Simulation::advanceTo did.
+struct AdvanceReport {
+    std::int64_t steps = 0;       // steps of dt advanced
+    std::int64_t stepCalls = 0;   // ordinary steps (integration + contacts)
+    std::int64_t longSteps = 0;   // contact-free long steps (exact integrator), each several dt
+    std::int64_t contacts = 0;    // contacts found, summed over the steps
+};
+
 // Advances the state by h seconds under its current voltages: integrate every
-// body, then detect and resolve contacts. When a body could move more than
+// body (a robot at rest with zero voltage, or a ball at rest, is left as it
+// is: its derivative is exactly zero), then detect and resolve contacts. When a body could move more than
 // kMaxTravelFraction of the smallest body's half-size in h, the step is split
 // into equal sub-steps so that no collision is tunnelled through. Bodies never
 // end outside the field. Does not touch state.step / state.time.
 constexpr double kMaxTravelFraction = 0.25;
-StepReport stepWorld(const WorldModel& model, WorldState& state, double h);
+
+// Which bodies certainly cannot touch another body or a wall within a
+// horizon, from their travel bounds (robotTravelBound for the exact
+// integrator; for Euler and RK4 a cruder one, see world.cpp; the ball's
+// straight free flight) and discs that hold each body at any heading.
+struct FreeBodies {
+    std::vector<char> robots;         // 1: robot i is free for the horizon
+    bool ball = false;                // the ball is free
+    bool all = false;                 // every body is free
+    std::vector<double> robotTravel;  // farthest any point of robot i can go within the horizon, m
+    double ballTravel = 0.0;          // m
+    std::vector<std::pair<int, int>> pairs;  // work buffers
+    BroadPhaseScratch broadPhase;
+};
+void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out);
+
+// Optional parts of a step.
+struct StepOptions {
+    // Bodies known to be out of everybody's reach for this step
+    // (Simulation::advanceTo): they do not decide the sub-steps, and when
+    // `frozen`, they are not integrated either (a long step moves them).
+    const std::vector<char>* freeRobots = nullptr;  // non-zero entry: robot i is free
+    bool freeBall = false;
+    bool frozen = false;
+    // Exact integrator: reuse tables; null builds each table when needed.
+    ExactTableCache* tables = nullptr;
+};
+StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const StepOptions& options = {});
 
 // A scene being run: the world plus its command schedule.
 class Simulation {
@@ -67,6 +106,22 @@ public:
 
     // One step of dt: apply the commands due at this step boundary, then step.
     StepReport step();
+
+    // Advances to step index `target` (time target * dt), applying commands
+    // at their steps. Other integrators take steps of dt; with the exact
+    // integrator (and settings.long_steps), each stretch between voltage
+    // changes is cut short only where contacts are possible. The bodies'
+    // travel bounds (findFreeBodies) tell which bodies cannot touch anything
+    // before the stretch ends: those take it in one step while the others
+    // take steps of dt; when every body is free, the whole world takes one
+    // step. Long steps end on multiples of dt, so the
+    // contacts happen at the same steps as with fixed steps, and the states
+    // agree with fixed steps to rounding.
+    AdvanceReport advanceTo(std::int64_t target);
+
+    // How many whole steps of dt (at most `wanted`) the bodies can move with
+    // no contact possible; exposed for tests.
+    std::int64_t contactFreeSteps(std::int64_t wanted) const;
 
     // Sets a robot's voltages now (clamped to its +-max_voltage; NaN -> 0 V).
     void setVoltages(int robot, const Voltages& e);
@@ -87,8 +142,32 @@ private:
     Scene scene_;
     WorldModel model_;
     WorldState state_;
+    void applyDueCommands();
+    // Integrates the chosen bodies (all robots when `robots` is null) by h, no contacts.
+    void advanceBodies(double h, const std::vector<char>* robots, bool ball);
+    void finishStep(std::int64_t steps);
+    std::int64_t ordinaryStep();  // one stepWorld of dt; returns its contacts
+    StepOptions cachedTables() {
+        StepOptions options;
+        options.tables = &tables_;
+        return options;
+    }
+    // Bodies frozen at the start of a stretch: where, and how far they may go.
+    struct FrozenStart {
+        std::vector<char> frozen;    // per body, robots then the ball
+        std::vector<double> x, y;    // m
+        std::vector<double> travel;  // m, over the whole stretch
+    };
+    // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
+    bool frozenStillSafe(const FrozenStart& start, double remaining);
+
     std::vector<ScheduledCommand> schedule_;  // sorted by step, stable (file order on ties)
     std::size_t nextCommand_ = 0;
+    ExactTableCache tables_;
+    // Work buffers of advanceTo (kept to avoid allocations; not state).
+    FreeBodies free_;
+    FrozenStart frozenStart_;
+    std::vector<char> frozenRobots_;
 };
 
 }  // namespace vssim

@@ -1,0 +1,70 @@
+// The "exact" integrator (model.md §2, §7): the velocity part of eq. 8 is
+// linear with constant input between voltage changes, so (v, w) and the
+// heading theta are advanced by their closed form (linear_flow.h) for any
+// step, and only the position x' = v cos(theta), y' = v sin(theta) is a
+// quadrature: 5-point Gauss-Legendre (order 10) on panels short enough that
+// the heading turns at most kPanelTurn and the fastest velocity mode decays
+// by at most e^-kPanelDecay across one panel. The step is unconditionally
+// stable and its error does not grow with the step length the way Euler's or
+// RK4's does; see docs/model.md and docs/performance.md.
+//
+// Alternatives rejected: a Magnus/Lie-group rule for the pose (no better
+// accuracy per cost here, since theta(t) is known in closed form), and
+// adaptive Runge-Kutta (its error control is a tolerance, not the exact
+// solution, and it costs many more evaluations per 30 ms interval).
+#pragma once
+
+#include <array>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "vssim/ball.h"
+#include "vssim/linear_flow.h"
+#include "vssim/robot_model.h"
+#include "vssim/robot_state.h"
+
+namespace vssim {
+
+constexpr int kGaussNodes = 5;
+constexpr double kPanelTurn = 1.0;   // rad: the most the heading may turn in one panel
+constexpr double kPanelDecay = 1.0;  // the most |lambda| h_panel may be (fastest mode)
+
+// Everything the exact step of one robot needs for a step of h seconds split
+// into `panels` equal panels; depends only on the robot's model and h, so it
+// is computed once per (robot, h) and reused.
+struct ExactStepTable {
+    double h = 0.0;   // whole step, s
+    int panels = 1;   // equal panels of h / panels
+    LinearFlow panel;  // flow over one panel
+    std::array<LinearFlow, kGaussNodes> nodes;  // flow from a panel's start to each node
+    std::array<double, kGaussNodes> weights{};  // quadrature weights times the panel length, s
+};
+
+ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels);
+
+// Panels needed for a step of h from `state` under voltages e: enough that
+// neither the heading turns (velocityBound) nor the fastest mode decays too
+// much in one panel.
+int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h);
+
+// Tables already built, per robot, keyed by (step length, panels). A cache
+// only: a table depends on nothing but its key and the robot's model, so the
+// results are the same whether a table is reused or rebuilt.
+class ExactTableCache {
+public:
+    const ExactStepTable& table(int robot, const RobotModel& model, double h, int panels);
+
+private:
+    static constexpr std::size_t kMaxPerRobot = 64;  // a scene of many step lengths must not grow it forever
+    std::vector<std::map<std::pair<double, int>, ExactStepTable>> tables_;
+};
+
+// Advances one robot by table.h under constant (already clamped) voltages.
+void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, RobotState& state, const Voltages& e);
+
+// The ball's eq. 9 solved exactly: v(h) = v0 e^(-k h), x(h) = x0 + v0 (1 - e^(-k h)) / k,
+// k = beta_b / m_b.
+void integrateBallExact(const BallParams& params, BallState& state, double h);
+
+}  // namespace vssim

@@ -1,0 +1,31 @@
+// The exact flow of the robot's velocity dynamics u' = A u + g (model.md §2,
+// eq. 8) over a time t with constant input g = G e (piecewise-constant
+// voltages, model.md §7):
+//
+//     u(t)     = Phi(t) u0 + Psi(t) g
+//     int_0^t u = Psi(t) u0 + Omega(t) g
+//
+// with Phi(t) = exp(A t), Psi(t) = int_0^t Phi, Omega(t) = int_0^t Psi.
+// The second line gives the heading exactly (theta' = omega).
+//
+// Computed by Taylor series of the three at once on a scaled time, then
+// doubling back (Phi(2t) = Phi^2, Psi(2t) = (I + Phi) Psi, Omega(2t) =
+// (I + Phi) Omega + t Psi). This needs neither A^-1 (A may be singular for a
+// frictionless robot) nor eigenvalues, has no cancellation for short times,
+// and is the same for every 2x2 A: no case split on real or complex modes.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace vssim {
+
+struct LinearFlow {
+    double t = 0.0;                                   // s
+    Eigen::Matrix2d Phi = Eigen::Matrix2d::Identity();  // exp(A t), dimensionless
+    Eigen::Matrix2d Psi = Eigen::Matrix2d::Zero();      // int_0^t exp(A s) ds, s
+    Eigen::Matrix2d Omega = Eigen::Matrix2d::Zero();    // int_0^t Psi(s) ds, s^2
+};
+
+LinearFlow linearFlow(const Eigen::Matrix2d& A, double t);
+
+}  // namespace vssim

@@ -1,0 +1,106 @@
+#include "vssim/exact_integrator.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vssim {
+
+namespace {
+
+// Gauss-Legendre nodes and weights on [0, 1].
+constexpr std::array<double, kGaussNodes> kNodeOffsets = {
+    0.5 - 0.5 * 0.9061798459386639927976269,
+    0.5 - 0.5 * 0.5384693101056830910363144,
+    0.5,
+    0.5 + 0.5 * 0.5384693101056830910363144,
+    0.5 + 0.5 * 0.9061798459386639927976269,
+};
+constexpr std::array<double, kGaussNodes> kNodeWeights = {
+    0.5 * 0.2369268850561890875142640,
+    0.5 * 0.4786286704993664680412915,
+    0.5 * 0.5688888888888888888888889,
+    0.5 * 0.4786286704993664680412915,
+    0.5 * 0.2369268850561890875142640,
+};
+
+constexpr int kMaxPanels = 1 << 20;
+
+}  // namespace
+
+ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels) {
+    ExactStepTable t;
+    t.h = h;
+    t.panels = std::max(1, panels);
+    const double hp = h / t.panels;
+    t.panel = linearFlow(model.A, hp);
+    for (int i = 0; i < kGaussNodes; ++i) {
+        t.nodes[i] = linearFlow(model.A, kNodeOffsets[i] * hp);
+        t.weights[i] = kNodeWeights[i] * hp;
+    }
+    return t;
+}
+
+int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h) {
+    const double yawRate = velocityBound(model, state, e)(1);  // rad/s, over the whole step
+    const double need = std::max(yawRate * h / kPanelTurn, model.fastestRate * h / kPanelDecay);
+    if (!(need > 1.0)) return 1;  // also NaN
+    return static_cast<int>(std::min<double>(kMaxPanels, std::ceil(need)));
+}
+
+const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model, double h, int panels) {
+    if (robot >= static_cast<int>(tables_.size())) tables_.resize(robot + 1);
+    auto& mine = tables_[robot];
+    const std::pair<double, int> key(h, panels);
+    auto found = mine.find(key);
+    if (found == mine.end()) {
+        if (mine.size() >= kMaxPerRobot) mine.clear();
+        found = mine.emplace(key, makeExactStepTable(model, h, panels)).first;
+    }
+    return found->second;
+}
+
+void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, RobotState& state, const Voltages& e) {
+    const Eigen::Vector2d g = model.G * Eigen::Vector2d(e.right, e.left);  // u' = A u + g
+    // The input's share of each node's flow is the same on every panel.
+    std::array<Eigen::Vector2d, kGaussNodes> nodeVelocityInput, nodeTurnInput;
+    for (int i = 0; i < kGaussNodes; ++i) {
+        nodeVelocityInput[i] = table.nodes[i].Psi * g;
+        nodeTurnInput[i] = table.nodes[i].Omega * g;
+    }
+    const Eigen::Vector2d panelVelocityInput = table.panel.Psi * g;
+    const Eigen::Vector2d panelTurnInput = table.panel.Omega * g;
+
+    Eigen::Vector2d u(state.v, state.omega);
+    double x = state.x, y = state.y, theta = state.theta;
+    for (int p = 0; p < table.panels; ++p) {
+        double dx = 0.0, dy = 0.0;
+        for (int i = 0; i < kGaussNodes; ++i) {
+            const double v = table.nodes[i].Phi.row(0).dot(u) + nodeVelocityInput[i](0);
+            const double heading = theta + table.nodes[i].Psi.row(1).dot(u) + nodeTurnInput[i](1);
+            dx += table.weights[i] * v * std::cos(heading);
+            dy += table.weights[i] * v * std::sin(heading);
+        }
+        x += dx;
+        y += dy;
+        theta += table.panel.Psi.row(1).dot(u) + panelTurnInput(1);
+        u = table.panel.Phi * u + panelVelocityInput;
+    }
+    state.x = x;
+    state.y = y;
+    state.theta = theta;
+    state.v = u(0);
+    state.omega = u(1);
+}
+
+void integrateBallExact(const BallParams& params, BallState& state, double h) {
+    const double k = params.friction / params.mass;  // 1/s
+    // (1 - e^(-k h)) / k without cancellation; h when there is no friction.
+    const double travelTime = k > 0.0 ? -std::expm1(-k * h) / k : h;  // s
+    const double decay = std::exp(-k * h);
+    state.x += state.vx * travelTime;
+    state.y += state.vy * travelTime;
+    state.vx *= decay;
+    state.vy *= decay;
+}
+
+}  // namespace vssim

@@ -1,0 +1,298 @@
+// The exact integrator (exact_integrator.h, model.md §2, §7): the matrix flow
+// against independent closed forms, the velocity and heading exact for any
+// step, the position against an independent fine RK4 and a circle, the ball
+// against eq. 9's closed form, and stability where Euler and RK4 blow up.
+#include <QtTest>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "test_support.h"
+#include "vssim/exact_integrator.h"
+#include "vssim/geometry.h"
+#include "vssim/integrator.h"
+#include "vssim/linear_flow.h"
+#include "vssim/robot_model.h"
+
+using namespace vssim;
+
+namespace {
+
+// exp(A t), its integral and double integral from A's eigen-decomposition
+// (real, distinct eigenvalues lambda): the scalar forms e^(l t),
+// (e^(l t) - 1)/l and (e^(l t) - 1 - l t)/l^2 per mode. Written
+// independently of linear_flow.cpp (which uses Taylor series and doubling).
+LinearFlow flowByEigenvectors(const Eigen::Matrix2d& A, double t) {
+    Eigen::EigenSolver<Eigen::Matrix2d> solver(A);
+    const Eigen::Matrix2d V = solver.eigenvectors().real();
+    const Eigen::Vector2d l = solver.eigenvalues().real();
+    Eigen::Vector2d phi, psi, omega;
+    for (int k = 0; k < 2; ++k) {
+        phi(k) = std::exp(l(k) * t);
+        psi(k) = std::expm1(l(k) * t) / l(k);
+        // (e^x - 1 - x)/l^2 with x = l t; its series where x is small
+        // (the closed form cancels there).
+        const double x = l(k) * t;
+        double series = 0.0, term = 0.5;  // sum of x^j / (j + 2)!
+        for (int j = 0; j < 30; ++j, term *= x / (j + 2)) series += term;
+        omega(k) = std::abs(x) > 1.0 ? (std::expm1(x) - x) / (l(k) * l(k)) : t * t * series;
+    }
+    LinearFlow f;
+    f.t = t;
+    f.Phi = V * phi.asDiagonal() * V.inverse();
+    f.Psi = V * psi.asDiagonal() * V.inverse();
+    f.Omega = V * omega.asDiagonal() * V.inverse();
+    return f;
+}
+
+double maxRelative(const Eigen::Matrix2d& got, const Eigen::Matrix2d& want) {
+    return (got - want).cwiseAbs().maxCoeff() / std::max(1e-300, want.cwiseAbs().maxCoeff());
+}
+
+// RK4 with a tiny step as an independent reference for the pose.
+RobotState referenceRk4(const RobotModel& m, RobotState s, const Voltages& e, double duration) {
+    const int steps = static_cast<int>(std::lround(duration / 1e-5));
+    for (int k = 0; k < steps; ++k) integrateRobot(m, s, e, duration / steps, Integrator::Rk4);
+    return s;
+}
+
+// A robot whose motors are extremely stiff (tiny rotor inertia, low
+// resistance, strong motor): its fastest mode decays in microseconds.
+RobotParams stiffParams() {
+    RobotParams p;
+    p.mass = 0.05;
+    p.inertia = 2e-5;
+    for (MotorParams* m : {&p.right, &p.left}) {
+        m->rotor_inertia = 1e-7;
+        m->resistance = 0.5;
+        m->k = 0.3;
+    }
+    return p;
+}
+
+}  // namespace
+
+class TestExactIntegrator : public QObject {
+    Q_OBJECT
+private slots:
+    void flowMatchesEigenDecomposition_data();
+    void flowMatchesEigenDecomposition();
+    void flowOfZeroAndSingularMatrices();
+    void velocityAndHeadingExactForAnyStep_data();
+    void velocityAndHeadingExactForAnyStep();
+    void positionMatchesFineReference_data();
+    void positionMatchesFineReference();
+    void steadyTurnIsACircle();
+    void ballMatchesClosedForm();
+    void stableWhereExplicitMethodsDiverge();
+    void stepBoundsHold();
+};
+
+void TestExactIntegrator::flowMatchesEigenDecomposition_data() {
+    QTest::addColumn<double>("t");
+    for (double t : {1e-6, 1e-3, 0.03, 0.5, 4.0}) QTest::newRow(qPrintable(QString("t=%1").arg(t))) << t;
+}
+
+void TestExactIntegrator::flowMatchesEigenDecomposition() {
+    QFETCH(double, t);
+    for (const RobotParams& p : {RobotParams{}, test::asymmetricParams()}) {
+        const Eigen::Matrix2d A = makeRobotModel(p).A;
+        const LinearFlow got = linearFlow(A, t), want = flowByEigenvectors(A, t);
+        QVERIFY2(maxRelative(got.Phi, want.Phi) < 1e-13, qPrintable(QString::number(maxRelative(got.Phi, want.Phi))));
+        QVERIFY2(maxRelative(got.Psi, want.Psi) < 1e-13, qPrintable(QString::number(maxRelative(got.Psi, want.Psi))));
+        QVERIFY2(maxRelative(got.Omega, want.Omega) < 1e-12,
+                 qPrintable(QString::number(maxRelative(got.Omega, want.Omega))));
+    }
+    // A rotation generator (complex modes): exp = rotation, integral known.
+    Eigen::Matrix2d R;
+    R << 0.0, -3.0, 3.0, 0.0;
+    const LinearFlow f = linearFlow(R, t);
+    Eigen::Matrix2d rot, rotIntegral;
+    rot << std::cos(3 * t), -std::sin(3 * t), std::sin(3 * t), std::cos(3 * t);
+    rotIntegral << std::sin(3 * t) / 3, (std::cos(3 * t) - 1) / 3, (1 - std::cos(3 * t)) / 3, std::sin(3 * t) / 3;
+    QVERIFY((f.Phi - rot).cwiseAbs().maxCoeff() < 1e-13);
+    QVERIFY((f.Psi - rotIntegral).cwiseAbs().maxCoeff() < 1e-13 * std::max(1.0, t));
+}
+
+void TestExactIntegrator::flowOfZeroAndSingularMatrices() {
+    // A = 0 (a frictionless body): Phi = I, Psi = t I, Omega = t^2/2 I.
+    const LinearFlow zero = linearFlow(Eigen::Matrix2d::Zero(), 0.7);
+    QCOMPARE(zero.Phi, Eigen::Matrix2d::Identity().eval());
+    QVERIFY((zero.Psi - 0.7 * Eigen::Matrix2d::Identity()).norm() < 1e-15);
+    QVERIFY((zero.Omega - 0.245 * Eigen::Matrix2d::Identity()).norm() < 1e-15);
+    // A nilpotent A (singular, not diagonalizable): exp(A t) = I + A t exactly.
+    Eigen::Matrix2d N;
+    N << 0.0, 2.0, 0.0, 0.0;
+    const LinearFlow f = linearFlow(N, 1.5);
+    QVERIFY((f.Phi - (Eigen::Matrix2d::Identity() + 1.5 * N)).norm() < 1e-14);
+    QVERIFY((f.Psi - (1.5 * Eigen::Matrix2d::Identity() + 1.125 * N)).norm() < 1e-14);
+    QVERIFY((f.Omega - (1.125 * Eigen::Matrix2d::Identity() + (1.5 * 1.5 * 1.5 / 6) * N)).norm() < 1e-14);
+}
+
+void TestExactIntegrator::velocityAndHeadingExactForAnyStep_data() {
+    QTest::addColumn<double>("h");
+    for (double h : {1e-4, 1e-3, 0.03, 0.25, 2.0}) QTest::newRow(qPrintable(QString("h=%1").arg(h))) << h;
+}
+
+void TestExactIntegrator::velocityAndHeadingExactForAnyStep() {
+    // model.md §2: u(t) = u_inf + exp(A t)(u0 - u_inf) for constant e, and
+    // theta(t) = theta0 + int omega, from the eigen-decomposition above.
+    QFETCH(double, h);
+    const RobotModel m = makeRobotModel(test::asymmetricParams());
+    const Voltages e{6.5, -2.0};
+    RobotState s;
+    s.v = 0.4;
+    s.omega = 7.0;
+    s.theta = 0.3;
+    const Eigen::Vector2d u0(s.v, s.omega);
+    const Eigen::Vector2d uInf = steadyStateVelocity(m, e);
+    const double duration = 4.0;  // s: several time constants
+    const int steps = static_cast<int>(std::lround(duration / h));
+    for (int k = 0; k < steps; ++k) integrateRobot(m, s, e, h, Integrator::Exact);
+    const double t = steps * h;
+    const LinearFlow f = flowByEigenvectors(m.A, t);
+    const Eigen::Vector2d u = uInf + f.Phi * (u0 - uInf);
+    const double theta = 0.3 + uInf(1) * t + (f.Psi * (u0 - uInf))(1);
+    // To rounding: a few ulps per step, accumulated over the steps.
+    const double tolerance = 1e-15 * (steps + 10);
+    QVERIFY2(std::abs(s.v - u(0)) < tolerance, qPrintable(QString("v %1 vs %2").arg(s.v, 0, 'g', 17).arg(u(0), 0, 'g', 17)));
+    QVERIFY2(std::abs(s.omega - u(1)) < 10 * tolerance, qPrintable(QString("w %1 vs %2").arg(s.omega, 0, 'g', 17).arg(u(1), 0, 'g', 17)));
+    QVERIFY2(std::abs(s.theta - theta) < 10 * tolerance * std::max(1.0, std::abs(theta)), qPrintable(QString("theta %1 vs %2").arg(s.theta, 0, 'g', 17).arg(theta, 0, 'g', 17)));
+}
+
+void TestExactIntegrator::positionMatchesFineReference_data() {
+    QTest::addColumn<double>("h");
+    for (double h : {1e-3, 0.01, 0.03, 0.1}) QTest::newRow(qPrintable(QString("h=%1").arg(h))) << h;
+}
+
+void TestExactIntegrator::positionMatchesFineReference() {
+    // Against RK4 at 10 us (error ~1e-14 m here): the exact step's position
+    // error stays at rounding level even for steps of 100 ms.
+    QFETCH(double, h);
+    const RobotModel m = makeRobotModel(test::asymmetricParams());
+    const Voltages e{7.4, 1.0};
+    RobotState start;
+    start.v = -0.5;
+    start.omega = 20.0;
+    const double duration = 0.3;  // s
+    RobotState s = start;
+    const int steps = static_cast<int>(std::lround(duration / h));
+    for (int k = 0; k < steps; ++k) integrateRobot(m, s, e, h, Integrator::Exact);
+    const RobotState want = referenceRk4(m, start, e, steps * h);
+    const double err = std::hypot(s.x - want.x, s.y - want.y);
+    QVERIFY2(err < 1e-11, qPrintable(QString("position error %1 m").arg(err)));
+    // RK4 at the same step is far worse at the long steps (the point of the method).
+    if (h >= 0.03) {
+        RobotState r = start;
+        for (int k = 0; k < steps; ++k) integrateRobot(m, r, e, h, Integrator::Rk4);
+        QVERIFY(std::hypot(r.x - want.x, r.y - want.y) > 1000 * err);
+    }
+}
+
+void TestExactIntegrator::steadyTurnIsACircle() {
+    // At the steady state of constant voltages the robot drives a circle of
+    // radius v/w: x = x0 + (v/w)(sin(theta0 + w t) - sin theta0), and
+    // y = y0 - (v/w)(cos(theta0 + w t) - cos theta0). One step of 1 s.
+    const RobotModel m = makeRobotModel(RobotParams{});
+    const Voltages e{7.0, 3.0};
+    const Eigen::Vector2d u = steadyStateVelocity(m, e);
+    RobotState s;
+    s.x = 0.1;
+    s.y = -0.2;
+    s.theta = 0.4;
+    s.v = u(0);
+    s.omega = u(1);
+    integrateRobot(m, s, e, 1.0, Integrator::Exact);
+    const double radius = u(0) / u(1);
+    QVERIFY(std::abs(s.x - (0.1 + radius * (std::sin(0.4 + u(1)) - std::sin(0.4)))) < 1e-13);
+    QVERIFY(std::abs(s.y - (-0.2 - radius * (std::cos(0.4 + u(1)) - std::cos(0.4)))) < 1e-13);
+    QVERIFY(std::abs(s.theta - (0.4 + u(1))) < 1e-13);
+}
+
+void TestExactIntegrator::ballMatchesClosedForm() {
+    // Eq. 9: v(t) = v0 e^(-k t), x(t) = x0 + v0 (1 - e^(-k t)) / k, any step.
+    BallParams p;
+    for (double h : {1e-3, 0.5, 10.0}) {
+        BallState b;
+        b.vx = 2.0;
+        b.vy = -1.5;
+        const int steps = static_cast<int>(std::lround(10.0 / h));
+        for (int k = 0; k < steps; ++k) integrateBall(p, b, h, Integrator::Exact);
+        const double k = p.friction / p.mass;
+        QVERIFY(test::relativeError(b.vx, 2.0 * std::exp(-k * 10.0)) < 1e-12);
+        QVERIFY(test::relativeError(b.x, 2.0 * (1 - std::exp(-k * 10.0)) / k) < 1e-12);
+        QVERIFY(test::relativeError(b.y, -1.5 * (1 - std::exp(-k * 10.0)) / k) < 1e-12);
+    }
+}
+
+void TestExactIntegrator::stableWhereExplicitMethodsDiverge() {
+    // The stiff robot's fastest mode: Euler is stable only for h < 2/|l|,
+    // RK4 for h < 2.785/|l|. At a step ten times beyond, they blow up; the
+    // exact step lands on the steady state.
+    const RobotModel m = makeRobotModel(stiffParams());
+    const double limit = 2.0 / m.fastestRate;  // s, Euler's limit
+    const double h = 10.0 * 2.785 / m.fastestRate;
+    const Voltages e{5.0, 5.0};
+    const Eigen::Vector2d uInf = steadyStateVelocity(m, e);
+    RobotState euler, rk4, exact;
+    for (int k = 0; k < 200; ++k) {
+        integrateRobot(m, euler, e, h, Integrator::Euler);
+        integrateRobot(m, rk4, e, h, Integrator::Rk4);
+        integrateRobot(m, exact, e, h, Integrator::Exact);
+    }
+    QVERIFY2(limit < 1e-3, qPrintable(QString("not stiff: Euler's limit %1 s").arg(limit)));
+    QVERIFY(!(std::abs(euler.v) < 1e3));
+    QVERIFY(!(std::abs(rk4.v) < 1e3));
+    QVERIFY(test::relativeError(exact.v, uInf(0)) < 1e-9);
+}
+
+void TestExactIntegrator::stepBoundsHold() {
+    // pointSpeedBound bounds |v| + |w| s/sqrt2 at every instant of the exact
+    // trajectory, from random starts and voltages (asymmetric robot).
+    const RobotModel m = makeRobotModel(test::asymmetricParams());
+    const double rho = m.params.side / std::sqrt(2.0);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> volt(-7.4, 7.4), speed(-2.5, 2.5), yaw(-60.0, 60.0);
+    for (int trial = 0; trial < 200; ++trial) {
+        RobotState s;
+        s.v = speed(rng);
+        s.omega = yaw(rng);
+        const Voltages e{volt(rng), volt(rng)};
+        const double bound = pointSpeedBound(m, s, e);
+        for (int k = 0; k < 400; ++k) {
+            integrateRobot(m, s, e, 2e-3, Integrator::Exact);
+            QVERIFY(std::abs(s.v) + rho * std::abs(s.omega) <= bound);
+        }
+    }
+    // robotTravelBound bounds the path length of every corner of the robot
+    // (measured along the exact trajectory in steps of 0.5 ms) at every T.
+    for (int trial = 0; trial < 200; ++trial) {
+        RobotState s;
+        s.v = speed(rng);
+        s.omega = yaw(rng);
+        const Voltages e{volt(rng), volt(rng)};
+        const RobotState start = s;
+        std::array<Eigen::Vector2d, 4> corners = robotVertices(s, m.params.side);
+        double path = 0.0;  // m, the longest corner path so far
+        std::array<double, 4> paths{};
+        for (int k = 1; k <= 400; ++k) {
+            integrateRobot(m, s, e, 5e-4, Integrator::Exact);
+            const std::array<Eigen::Vector2d, 4> now = robotVertices(s, m.params.side);
+            for (int j = 0; j < 4; ++j) paths[j] += (now[j] - corners[j]).norm(), path = std::max(path, paths[j]);
+            corners = now;
+            const double bound = robotTravelBound(m, start, e, k * 5e-4);
+            QVERIFY2(path <= bound * (1 + 1e-12), qPrintable(QString("trial %1, T=%2: path %3 > bound %4").arg(trial).arg(k * 5e-4).arg(path).arg(bound)));
+        }
+    }
+    // And it is tight where it can be: a symmetric robot driving straight
+    // from rest travels exactly the bound (every point moves with v).
+    const RobotModel symmetric = makeRobotModel(RobotParams{});
+    RobotState straight;
+    for (int k = 0; k < 100; ++k) integrateRobot(symmetric, straight, {5.0, 5.0}, 1e-3, Integrator::Exact);
+    QVERIFY(test::relativeError(robotTravelBound(symmetric, RobotState{}, {5.0, 5.0}, 0.1), straight.x) < 1e-9);
+    // The yaw-rate bound from rest at full voltage holds.
+    QVERIFY(std::abs(steadyStateVelocity(m, {7.4, -7.4})(1)) <= m.maxYawRate);
+}
+
+QTEST_GUILESS_MAIN(TestExactIntegrator)
+#include "test_exact_integrator.moc"
