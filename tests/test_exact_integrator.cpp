@@ -265,7 +265,8 @@ void TestExactIntegrator::stepBoundsHold() {
         }
     }
     // robotTravelBound bounds the path length of every corner of the robot
-    // (measured along the exact trajectory in steps of 0.5 ms) at every T.
+    // (measured along the exact trajectory in steps of 0.5 ms) at every T,
+    // and with arm 0 the distance the centre has moved.
     for (int trial = 0; trial < 200; ++trial) {
         RobotState s;
         s.v = speed(rng);
@@ -280,7 +281,8 @@ void TestExactIntegrator::stepBoundsHold() {
             const std::array<Eigen::Vector2d, 4> now = robotVertices(s, m.params.side);
             for (int j = 0; j < 4; ++j) paths[j] += (now[j] - corners[j]).norm(), path = std::max(path, paths[j]);
             corners = now;
-            const double bound = robotTravelBound(m, start, e, k * 5e-4);
+            const double bound = robotTravelBound(m, start, e, k * 5e-4, rho);
+            QVERIFY(std::hypot(s.x - start.x, s.y - start.y) <= robotTravelBound(m, start, e, k * 5e-4, 0.0) * (1 + 1e-12));
             QVERIFY2(path <= bound * (1 + 1e-12), qPrintable(QString("trial %1, T=%2: path %3 > bound %4").arg(trial).arg(k * 5e-4).arg(path).arg(bound)));
         }
     }
@@ -289,7 +291,7 @@ void TestExactIntegrator::stepBoundsHold() {
     const RobotModel symmetric = makeRobotModel(RobotParams{});
     RobotState straight;
     for (int k = 0; k < 100; ++k) integrateRobot(symmetric, straight, {5.0, 5.0}, 1e-3, Integrator::Exact);
-    QVERIFY(test::relativeError(robotTravelBound(symmetric, RobotState{}, {5.0, 5.0}, 0.1), straight.x) < 1e-9);
+    QVERIFY(test::relativeError(robotTravelBound(symmetric, RobotState{}, {5.0, 5.0}, 0.1, 0.05), straight.x) < 1e-9);
     // The yaw-rate bound from rest at full voltage holds.
     QVERIFY(std::abs(steadyStateVelocity(m, {7.4, -7.4})(1)) <= m.maxYawRate);
 }

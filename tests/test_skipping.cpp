@@ -243,7 +243,8 @@ void TestSkipping::freeBodiesTakeLongStepsBesideAContact() {
     const AdvanceReport r = sim.advanceTo(600);
     QVERIFY2(r.contacts > 100, "the pusher is not pressed against the wall");
     QVERIFY(r.longSteps >= 19);
-    QVERIFY(r.stepCalls >= 500 && r.stepCalls < 600);  // the pusher steps by dt once it nears the wall
+    // The pusher steps by dt once it touches the wall (about 0.1 s in), not before.
+    QVERIFY2(r.stepCalls >= 450 && r.stepCalls < 550, qPrintable(QString::number(r.stepCalls)));
     scene.simulation.long_steps = false;
     Simulation fixed(scene);
     fixed.advanceTo(600);

@@ -102,8 +102,8 @@ double pointSpeedBound(const RobotModel& model, const RobotState& state, const V
     return bound(0) + model.params.side / std::sqrt(2.0) * bound(1);
 }
 
-double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
-    const double rho = model.params.side / std::sqrt(2.0);  // m
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm) {
+    const double rho = arm;  // m
     const Eigen::Vector2d u0(state.v, state.omega);
     const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
     double travel = 0.0;

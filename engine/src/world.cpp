@@ -56,7 +56,15 @@ bool atRest(const RobotState& r, const Voltages& e) {
     return r.v == 0.0 && r.omega == 0.0 && e.right == 0.0 && e.left == 0.0;
 }
 
+bool useBroadPhase(const WorldModel& model, const WorldState& state) {
+    return model.settings.broad_phase && static_cast<int>(state.robots.size()) >= kBroadPhaseMinRobots;
+}
+
 bool atRest(const BallState& b) { return b.vx == 0.0 && b.vy == 0.0; }
+
+// After a failed try at a long step for the bodies near contacts, this many
+// steps of dt pass before the next try (a try costs about one step).
+constexpr std::int64_t kRetryAfterSteps = 4;
 
 }  // namespace
 
@@ -111,7 +119,7 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
     }
     const double sub = h / report.substeps;
     Bodies bodies{&state.robots, &model.robots, &state.ball, &model.ball};
-    const BodiesView view{&state.robots, &model.sides, &state.ball, model.ball.radius, model.settings.broad_phase};
+    const BodiesView view{&state.robots, &model.sides, &state.ball, model.ball.radius, useBroadPhase(model, state)};
 
     for (int s = 0; s < report.substeps; ++s) {
         for (std::size_t i = 0; i < state.robots.size(); ++i)
@@ -170,18 +178,19 @@ void Simulation::applyDueCommands() {
     }
 }
 
-// How far robot i can go within `horizon` as the integrator computes it.
-// The exact integrator follows the true trajectory, which robotTravelBound
-// bounds. Euler's and RK4's intermediate velocities can overshoot the true
-// ones (by up to about 1.5 times at the edge of RK4's stability region), so
-// for them: twice the speed bound, and only for one step well inside their
-// stability regions; beyond that nothing is promised.
+// How far robot i's centre can go within `horizon` as the integrator
+// computes it (turning does not matter: a disc around the centre holds the
+// robot at any heading). The exact integrator follows the true trajectory,
+// which robotTravelBound bounds. Euler's and RK4's intermediate velocities
+// can overshoot the true ones (by up to about 1.5 times at the edge of RK4's
+// stability region), so for them: twice the speed bound, and only for one
+// step well inside their stability regions; beyond that nothing is promised.
 static double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon) {
     const RobotModel& robot = model.robots[i];
     if (model.settings.integrator == Integrator::Exact)
-        return robotTravelBound(robot, state.robots[i], state.voltages[i], horizon);
+        return robotTravelBound(robot, state.robots[i], state.voltages[i], horizon, 0.0);
     if (!(horizon * robot.fastestRate <= 2.0)) return INFINITY;
-    return 2.0 * pointSpeedBound(robot, state.robots[i], state.voltages[i]) * horizon;
+    return 2.0 * velocityBound(robot, state.robots[i], state.voltages[i])(0) * horizon;
 }
 
 void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out) {
@@ -208,12 +217,14 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // Discs around the centres that hold each body at any heading, m.
     auto reach = [&model](std::size_t i) { return model.sides[i] / std::sqrt(2.0); };
     const Eigen::Vector2d ball(state.ball.x, state.ball.y);
+    // A body must cross a wall's line to touch the wall: the signed distance
+    // to the line (negative behind it) is a cheap, conservative gap.
     for (const Wall& w : model.field.walls) {
         for (std::size_t i = 0; i < n; ++i) {
-            const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
-            if (!(closestPointOnSegment(w.a, w.b, c).distance - reach(i) > out.robotTravel[i])) out.robots[i] = 0;
+            const double gap = w.normal.x() * (state.robots[i].x - w.a.x()) + w.normal.y() * (state.robots[i].y - w.a.y());
+            if (!(gap - reach(i) > out.robotTravel[i])) out.robots[i] = 0;
         }
-        if (!(closestPointOnSegment(w.a, w.b, ball).distance - model.ball.radius > out.ballTravel)) out.ball = false;
+        if (!(w.normal.dot(ball - w.a) - model.ball.radius > out.ballTravel)) out.ball = false;
     }
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
@@ -223,15 +234,15 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // Only pairs whose discs, grown by the farthest any body can go, overlap
     // can limit each other.
     out.pairs.clear();
-    if (model.settings.broad_phase) {
+    if (useBroadPhase(model, state)) {
         candidatePairs(state.robots, model.sides, farthest, out.broadPhase, out.pairs);
     } else {
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = i + 1; j < n; ++j) out.pairs.emplace_back(int(i), int(j));
     }
     for (const auto& [i, j] : out.pairs) {
-        const double gap = std::hypot(state.robots[i].x - state.robots[j].x, state.robots[i].y - state.robots[j].y) -
-                           reach(i) - reach(j);
+        const double dx = state.robots[i].x - state.robots[j].x, dy = state.robots[i].y - state.robots[j].y;
+        const double gap = std::sqrt(dx * dx + dy * dy) - reach(i) - reach(j);
         if (!(gap > out.robotTravel[i] + out.robotTravel[j])) out.robots[i] = 0, out.robots[j] = 0;
     }
     out.all = out.ball && std::all_of(out.robots.begin(), out.robots.end(), [](char f) { return f != 0; });
@@ -288,11 +299,26 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) {
         const double jTravel = j < n ? free_.robotTravel[j] : free_.ballTravel;
         for (std::size_t i = 0; i <= n; ++i) {
             if (!start.frozen[i]) continue;
-            const double distance = std::hypot(pjX - start.x[i], pjY - start.y[i]);
+            const double dx = pjX - start.x[i], dy = pjY - start.y[i];
+            const double distance = std::sqrt(dx * dx + dy * dy);
             if (!(distance - reach(i) - reach(j) > start.travel[i] + jTravel)) return false;
         }
     }
     return true;
+}
+
+std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_t remaining) {
+    const std::size_t n = state_.robots.size();
+    std::int64_t steps = 1;
+    while (steps * 2 <= remaining) steps *= 2;
+    for (; steps >= 2; steps /= 4) {
+        // frozenStillSafe also fills free_ for this horizon.
+        if (!frozenStillSafe(start, static_cast<double>(steps) * model_.settings.dt)) continue;
+        bool allFree = start.frozen[n] || free_.ball;
+        for (std::size_t i = 0; i < n && allFree; ++i) allFree = start.frozen[i] || free_.robots[i];
+        if (allFree) return steps;
+    }
+    return 0;
 }
 
 AdvanceReport Simulation::advanceTo(std::int64_t target) {
@@ -369,13 +395,30 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.freeBall = start.frozen[n] != 0;
         options.frozen = skip;
         options.tables = &tables_;
-        std::int64_t done = 0;
-        bool stillSafe = true;
+        steppingRobots_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
+        std::int64_t done = 0, nextTry = 0;
+        bool stillSafe = true, touching = false;
         while (done < stretch && stillSafe) {
+            // The stepping bodies, too, may be free for a while (a robot
+            // nearing a wall, not yet at it): a long step of a power of two
+            // times dt for them. Not while touching; after a failed try, wait
+            // a few steps.
+            if (skip && !touching && done >= nextTry && stretch - done >= 2) {
+                const std::int64_t steps = steppingFreeSteps(start, stretch - done);
+                if (steps >= 2) {
+                    advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, !options.freeBall);
+                    done += steps;
+                    ++report.longSteps;
+                    continue;
+                }
+                nextTry = done + kRetryAfterSteps;
+            }
             const StepReport r = stepWorld(model_, state_, dt, options);
             report.contacts += r.contacts;
             ++report.stepCalls;
             ++done;
+            touching = r.contacts > 0;
             if (r.contacts > 0 && done < stretch) stillSafe = frozenStillSafe(start, static_cast<double>(stretch - done) * dt);
         }
         if (skip) {  // the frozen bodies catch up: by the whole stretch, or to the present

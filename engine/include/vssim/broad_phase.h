@@ -17,6 +17,10 @@
 
 namespace vssim {
 
+// Below this many robots testing all pairs is cheaper than sorting (the
+// contacts are the same either way); the world uses the broad phase from here on.
+constexpr int kBroadPhaseMinRobots = 16;
+
 // Appends to `pairs` every (i, j), i < j, whose grown bounding discs' boxes
 // overlap, sorted by i then j: the same order as the all-pairs loop, so the
 // contacts found (and so the results) do not depend on the broad phase.

@@ -56,13 +56,15 @@ Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, 
 // at every time t >= 0 under the same conditions (from velocityBound).
 double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e);
 
-// A bound on how far any point of the robot can move within T seconds while
-// the voltages stay e and nothing touches it, m: the integral over [0, T] of
-// sum_k [e^(rate_k t) |D P_k u0|_1 + (1 - e^(rate_k t)) |D P_k u_inf|_1],
-// D = diag(1, s/sqrt2), in closed form. Exact for a robot whose modes each
-// keep one sign; much tighter than pointSpeedBound * T for a robot that
-// starts slow. Infinite when the state or the model is not finite.
-double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
+// A bound on how far a point of the robot at distance `arm` (m) from its
+// centre can move within T seconds while the voltages stay e and nothing
+// touches it, m: the integral over [0, T] of sum_k [e^(rate_k t) |D P_k u0|_1
+// + (1 - e^(rate_k t)) |D P_k u_inf|_1], D = diag(1, arm), in closed form.
+// arm = 0 bounds the centre's path: what matters for a disc that holds the
+// robot at any heading. Exact for a robot whose modes each keep one sign;
+// much tighter than a speed bound times T for a robot that starts slow.
+// Infinite when the state or the model is not finite.
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm);
 
 // Quantities a user wants to see; not part of the state.
 struct RobotOutputs {

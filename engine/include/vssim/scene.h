@@ -23,7 +23,7 @@ struct SimulationSettings {
     double restitution = 1.0;                          // epsilon in [0, 1], impulse model only
     // Work-skipping switches (results do not depend on them beyond rounding;
     // they exist for benchmarks and tests, not scene files).
-    bool broad_phase = true;  // sweep-and-prune robot pairs instead of all pairs (broad_phase.h)
+    bool broad_phase = true;  // sweep-and-prune robot pairs instead of all pairs from kBroadPhaseMinRobots robots on (broad_phase.h)
     bool long_steps = true;   // exact integrator: one long step where no contact is possible (world.h)
 };
 

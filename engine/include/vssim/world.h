@@ -158,8 +158,12 @@ private:
         std::vector<double> x, y;    // m
         std::vector<double> travel;  // m, over the whole stretch
     };
-    // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
+    // Whether the stepping bodies still cannot reach the frozen ones within
+    // `remaining` s (fills free_ for that horizon).
     bool frozenStillSafe(const FrozenStart& start, double remaining);
+    // The longest power-of-two number of steps (<= remaining, >= 2) that the
+    // stepping bodies can take with no contact possible, or 0.
+    std::int64_t steppingFreeSteps(const FrozenStart& start, std::int64_t remaining);
 
     std::vector<ScheduledCommand> schedule_;  // sorted by step, stable (file order on ties)
     std::size_t nextCommand_ = 0;
@@ -168,6 +172,7 @@ private:
     FreeBodies free_;
     FrozenStart frozenStart_;
     std::vector<char> frozenRobots_;
+    std::vector<char> steppingRobots_;
 };
 
 }  // namespace vssim
