@@ -1,0 +1,20 @@
+// The four benchmarks of docs/performance.md. Each writes CSV to `out` and a
+// short human summary to `log`.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+namespace vssim::bench {
+
+struct Options {
+    std::string sceneFile;  // the 3-vs-3 scene file
+    bool quick = false;     // fewer configurations and repetitions (a smoke run)
+};
+
+int workPrecision(const Options& options, std::ostream& out, std::ostream& log);
+int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log);
+int scale(const Options& options, std::ostream& out, std::ostream& log);
+int stability(const Options& options, std::ostream& out, std::ostream& log);
+
+}  // namespace vssim::bench
