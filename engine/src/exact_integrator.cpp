@@ -27,22 +27,46 @@ constexpr int kMaxPanels = 1 << 20;
 
 }  // namespace
 
+namespace {
+
+ExactPanel makePanel(const RobotModel& model, double length, int repeat) {
+    ExactPanel p;
+    p.length = length;
+    p.repeat = repeat;
+    p.flow = linearFlow(model.A, length);
+    for (int i = 0; i < kGaussNodes; ++i) {
+        p.nodes[i] = linearFlow(model.A, kNodeOffsets[i] * length);
+        p.weights[i] = kNodeWeights[i] * length;
+    }
+    return p;
+}
+
+}  // namespace
+
 ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels) {
     ExactStepTable t;
     t.h = h;
     t.panels = std::max(1, panels);
-    const double hp = h / t.panels;
-    t.panel = linearFlow(model.A, hp);
-    for (int i = 0; i < kGaussNodes; ++i) {
-        t.nodes[i] = linearFlow(model.A, kNodeOffsets[i] * hp);
-        t.weights[i] = kNodeWeights[i] * hp;
+    const double even = h / t.panels;  // s, the heading criterion's panel
+    double start = 0.0;                // s, where the equal panels begin
+    if (model.fastestRate * even > kPanelDecay) {
+        // Graded panels over the fast transient: each one twice as long.
+        double length = kPanelDecay / model.fastestRate;
+        while (length < even && start + length < 0.5 * h) {
+            t.kinds.push_back(makePanel(model, length, 1));
+            start += length;
+            length *= 2.0;
+        }
     }
+    const double rest = h - start;
+    const int count = std::max(1, static_cast<int>(std::ceil(rest / even - 1e-9)));
+    t.kinds.push_back(makePanel(model, rest / count, count));
     return t;
 }
 
 int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h) {
     const double yawRate = velocityBound(model, state, e)(1);  // rad/s, over the whole step
-    const double need = std::max(yawRate * h / kPanelTurn, model.fastestRate * h / kPanelDecay);
+    const double need = yawRate * h / kPanelTurn;
     if (!(need > 1.0)) return 1;  // also NaN
     return static_cast<int>(std::min<double>(kMaxPanels, std::ceil(need)));
 }
@@ -61,29 +85,30 @@ const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model,
 
 void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, RobotState& state, const Voltages& e) {
     const Eigen::Vector2d g = model.G * Eigen::Vector2d(e.right, e.left);  // u' = A u + g
-    // The input's share of each node's flow is the same on every panel.
-    std::array<Eigen::Vector2d, kGaussNodes> nodeVelocityInput, nodeTurnInput;
-    for (int i = 0; i < kGaussNodes; ++i) {
-        nodeVelocityInput[i] = table.nodes[i].Psi * g;
-        nodeTurnInput[i] = table.nodes[i].Omega * g;
-    }
-    const Eigen::Vector2d panelVelocityInput = table.panel.Psi * g;
-    const Eigen::Vector2d panelTurnInput = table.panel.Omega * g;
-
     Eigen::Vector2d u(state.v, state.omega);
     double x = state.x, y = state.y, theta = state.theta;
-    for (int p = 0; p < table.panels; ++p) {
-        double dx = 0.0, dy = 0.0;
+    for (const ExactPanel& panel : table.kinds) {
+        // The input's share of each node's flow is the same on every panel of a kind.
+        std::array<double, kGaussNodes> nodeSpeedInput, nodeTurnInput;
         for (int i = 0; i < kGaussNodes; ++i) {
-            const double v = table.nodes[i].Phi.row(0).dot(u) + nodeVelocityInput[i](0);
-            const double heading = theta + table.nodes[i].Psi.row(1).dot(u) + nodeTurnInput[i](1);
-            dx += table.weights[i] * v * std::cos(heading);
-            dy += table.weights[i] * v * std::sin(heading);
+            nodeSpeedInput[i] = panel.nodes[i].Psi.row(0).dot(g);
+            nodeTurnInput[i] = panel.nodes[i].Omega.row(1).dot(g);
         }
-        x += dx;
-        y += dy;
-        theta += table.panel.Psi.row(1).dot(u) + panelTurnInput(1);
-        u = table.panel.Phi * u + panelVelocityInput;
+        const Eigen::Vector2d panelVelocityInput = panel.flow.Psi * g;
+        const double panelTurnInput = panel.flow.Omega.row(1).dot(g);
+        for (int p = 0; p < panel.repeat; ++p) {
+            double dx = 0.0, dy = 0.0;
+            for (int i = 0; i < kGaussNodes; ++i) {
+                const double v = panel.nodes[i].Phi.row(0).dot(u) + nodeSpeedInput[i];
+                const double heading = theta + panel.nodes[i].Psi.row(1).dot(u) + nodeTurnInput[i];
+                dx += panel.weights[i] * v * std::cos(heading);
+                dy += panel.weights[i] * v * std::sin(heading);
+            }
+            x += dx;
+            y += dy;
+            theta += panel.flow.Psi.row(1).dot(u) + panelTurnInput;
+            u = panel.flow.Phi * u + panelVelocityInput;
+        }
     }
     state.x = x;
     state.y = y;

@@ -30,22 +30,33 @@ constexpr int kGaussNodes = 5;
 constexpr double kPanelTurn = 1.0;   // rad: the most the heading may turn in one panel
 constexpr double kPanelDecay = 1.0;  // the most |lambda| h_panel may be (fastest mode)
 
-// Everything the exact step of one robot needs for a step of h seconds split
-// into `panels` equal panels; depends only on the robot's model and h, so it
-// is computed once per (robot, h) and reused.
+// One kind of panel: its length and the flows to its quadrature nodes.
+struct ExactPanel {
+    double length = 0.0;  // s
+    int repeat = 1;       // how many such panels follow each other
+    LinearFlow flow;      // flow over the whole panel
+    std::array<LinearFlow, kGaussNodes> nodes;  // flow from the panel's start to each node
+    std::array<double, kGaussNodes> weights{};  // quadrature weights times the length, s
+};
+
+// Everything the exact step of one robot needs for a step of h seconds;
+// depends only on the robot's model, h and the panel count, so it is
+// computed once and reused. The panels: `panels` equal ones (the heading
+// criterion), except that when the fastest mode would decay by more than
+// e^-kPanelDecay across one, the step starts with panels of 1, 2, 4, ...
+// times kPanelDecay/|lambda| (a stiff motor's transient), then goes on with
+// equal ones.
 struct ExactStepTable {
     double h = 0.0;   // whole step, s
-    int panels = 1;   // equal panels of h / panels
-    LinearFlow panel;  // flow over one panel
-    std::array<LinearFlow, kGaussNodes> nodes;  // flow from a panel's start to each node
-    std::array<double, kGaussNodes> weights{};  // quadrature weights times the panel length, s
+    int panels = 1;   // panels asked for (the heading criterion)
+    std::vector<ExactPanel> kinds;  // in order
 };
 
 ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels);
 
 // Panels needed for a step of h from `state` under voltages e: enough that
-// neither the heading turns (velocityBound) nor the fastest mode decays too
-// much in one panel.
+// the heading turns (velocityBound) at most kPanelTurn in one. (The fastest
+// mode is handled by the table's graded first panels.)
 int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h);
 
 // Tables already built, per robot, keyed by (step length, panels). A cache

@@ -1,0 +1,71 @@
+#!/usr/bin/python3
+"""Plots the CSV files of vssim_bench for docs/performance.md.
+
+Usage: bench/plot.py RESULTS_DIR OUTPUT_DIR
+Reads work_precision.csv and scale.csv from RESULTS_DIR and writes
+work_precision.png and scale.png into OUTPUT_DIR (Debian's python3-matplotlib).
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def work_precision(rows, out):
+    fig, ax = plt.subplots(figsize=(7, 5))
+    styles = {"euler": "o-", "rk4": "s-", "exact-fixed": "^-", "exact": "D-"}
+    labels = {"euler": "Euler", "rk4": "RK4", "exact-fixed": "exact, fixed steps", "exact": "exact, long steps"}
+    floor = 1e-15  # m: errors at rounding level are drawn here
+    for name, style in styles.items():
+        mine = [r for r in rows if r["integrator"] == name]
+        if not mine:
+            continue
+        seconds = [float(r["run_time_s"]) / 10.0 for r in mine]  # per simulated second
+        errors = [max(floor, float(r["max_position_error_m"])) for r in mine]
+        ax.loglog(seconds, errors, style, label=labels[name])
+        for r, x, y in zip(mine, seconds, errors):
+            ax.annotate(f"{float(r['dt_s']) * 1e3:g}", (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.axhline(1e-6, color="grey", lw=0.8, ls="--")
+    ax.text(ax.get_xlim()[0], 1.3e-6, " 1 um", fontsize=8, color="grey")
+    ax.set_xlabel("run time per simulated second [s] (6 robots)")
+    ax.set_ylabel("largest position error over 10 s [m]")
+    ax.set_title("Work against precision (labels: step in ms)")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
+def scale(rows, out):
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for flag, style, label in (("on", "o-", "broad phase on"), ("off", "s--", "broad phase off (all pairs)")):
+        mine = [r for r in rows if r["broad_phase"] == flag]
+        ax.loglog([int(r["robots"]) for r in mine], [float(r["us_per_robot_per_simulated_s"]) for r in mine], style, label=label)
+    ax.set_xlabel("robots")
+    ax.set_ylabel("run time per robot per simulated second [us]")
+    ax.set_title("Scale (RK4, 1 ms, the 3-vs-3 density)")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    results, output = sys.argv[1], sys.argv[2]
+    work_precision(read(os.path.join(results, "work_precision.csv")), os.path.join(output, "work_precision.png"))
+    scale(read(os.path.join(results, "scale.csv")), os.path.join(output, "scale.png"))
+
+
+if __name__ == "__main__":
+    main()
