@@ -87,6 +87,7 @@ private slots:
     void stableWhereExplicitMethodsDiverge();
     void stepBoundsHold();
     void stiffRobotAccurateAtLongSteps();
+    void positionQuadratureIsOrderTen();
 };
 
 void TestExactIntegrator::flowMatchesEigenDecomposition_data() {
@@ -314,6 +315,29 @@ void TestExactIntegrator::stiffRobotAccurateAtLongSteps() {
     const double err = std::hypot(exact.x - reference.x, exact.y - reference.y);
     QVERIFY2(err < 1e-9, qPrintable(QString("position error %1 m").arg(err)));
     QVERIFY(std::abs(exact.theta - reference.theta) < 1e-9);
+}
+
+void TestExactIntegrator::positionQuadratureIsOrderTen() {
+    // The exact step's only approximation is the position quadrature:
+    // 5-point Gauss-Legendre, order 10. On a steady turn (a circle, closed
+    // form) over 8 rad, forcing 4 and then 8 panels divides the error by
+    // about 2^10.
+    const RobotModel m = makeRobotModel(RobotParams{});
+    const Voltages e{7.4, -5.0};
+    const Eigen::Vector2d u = steadyStateVelocity(m, e);
+    const double h = 8.0 / u(1);  // s: eight radians of turn
+    auto error = [&](int panels) {
+        RobotState s;
+        s.v = u(0);
+        s.omega = u(1);
+        integrateRobotExact(m, makeExactStepTable(m, h, panels), s, e);
+        const double r = u(0) / u(1);
+        return std::hypot(s.x - r * std::sin(u(1) * h), s.y + r * (std::cos(u(1) * h) - 1.0));
+    };
+    const double coarse = error(4), fine = error(8);
+    QVERIFY2(coarse > 1e-12, "the error is at rounding: the test cannot see the order");
+    const double order = std::log2(coarse / fine);
+    QVERIFY2(order > 9.0 && order < 11.0, qPrintable(QString("order %1 (errors %2, %3 m)").arg(order).arg(coarse).arg(fine)));
 }
 
 QTEST_GUILESS_MAIN(TestExactIntegrator)
