@@ -140,22 +140,26 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
     const std::vector<RobotState>& robots = *bodies.robots;
     const std::vector<double>& sides = *bodies.sides;
     const int n = static_cast<int>(robots.size());
+    auto free = [&bodies](int i) { return bodies.freeRobots && (*bodies.freeRobots)[i]; };
     std::vector<Contact> contacts;
+    auto testPair = [&](int i, int j) {
+        if (free(i) || free(j)) return;
+        if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
+    };
     if (bodies.broadPhase) {
         BroadPhaseScratch scratch;
         std::vector<std::pair<int, int>> pairs;
         candidatePairs(robots, sides, 0.0, scratch, pairs);
-        for (const auto& [i, j] : pairs)
-            if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
+        for (const auto& [i, j] : pairs) testPair(i, j);
     } else {
         for (int i = 0; i < n; ++i)
-            for (int j = i + 1; j < n; ++j)
-                if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
+            for (int j = i + 1; j < n; ++j) testPair(i, j);
     }
-    if (bodies.ball) {
+    if (bodies.ball && !bodies.freeBall) {
         for (int i = 0; i < n; ++i)
-            if (auto k = robotBallContact(robots[i], sides[i], i, *bodies.ball, bodies.ballRadius))
-                contacts.push_back(*k);
+            if (!free(i))
+                if (auto k = robotBallContact(robots[i], sides[i], i, *bodies.ball, bodies.ballRadius))
+                    contacts.push_back(*k);
     }
     appendWallContacts(field, bodies, contacts);
     return contacts;
@@ -164,10 +168,12 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
 void appendWallContacts(const Field& field, const BodiesView& bodies, std::vector<Contact>& contacts) {
     const std::vector<RobotState>& robots = *bodies.robots;
     const int walls = static_cast<int>(field.walls.size());
-    for (int i = 0; i < static_cast<int>(robots.size()); ++i)
+    for (int i = 0; i < static_cast<int>(robots.size()); ++i) {
+        if (bodies.freeRobots && (*bodies.freeRobots)[i]) continue;
         for (int w = 0; w < walls; ++w)
             if (auto k = robotWallContact(robots[i], (*bodies.sides)[i], i, field.walls[w], w)) contacts.push_back(*k);
-    if (bodies.ball) {
+    }
+    if (bodies.ball && !bodies.freeBall) {
         for (int w = 0; w < walls; ++w)
             if (auto k = ballWallContact(*bodies.ball, bodies.ballRadius, field.walls[w], w)) contacts.push_back(*k);
     }

@@ -63,8 +63,10 @@ bool useBroadPhase(const WorldModel& model, const WorldState& state) {
 bool atRest(const BallState& b) { return b.vx == 0.0 && b.vy == 0.0; }
 
 // After a failed try at a long step for the bodies near contacts, this many
-// steps of dt pass before the next try (a try costs about one step).
-constexpr std::int64_t kRetryAfterSteps = 4;
+// steps of dt pass before the next try (a try costs about one step),
+// doubling after each failure in a row up to the longest wait.
+constexpr std::int64_t kFirstRetryWait = 2;
+constexpr std::int64_t kLongestRetryWait = 16;
 
 }  // namespace
 
@@ -119,7 +121,8 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
     }
     const double sub = h / report.substeps;
     Bodies bodies{&state.robots, &model.robots, &state.ball, &model.ball};
-    const BodiesView view{&state.robots, &model.sides, &state.ball, model.ball.radius, useBroadPhase(model, state)};
+    const BodiesView view{&state.robots,    &model.sides,       &state.ball,     model.ball.radius,
+                          useBroadPhase(model, state), options.freeRobots, options.freeBall};
 
     for (int s = 0; s < report.substeps; ++s) {
         for (std::size_t i = 0; i < state.robots.size(); ++i)
@@ -193,6 +196,13 @@ static double robotTravelForIntegrator(const WorldModel& model, const WorldState
     return 2.0 * velocityBound(robot, state.robots[i], state.voltages[i])(0) * horizon;
 }
 
+// Free flight of the ball is a straight line of length |v0| (1 - e^(-k T)) / k, m.
+static double ballTravel(const WorldModel& model, const WorldState& state, double horizon) {
+    const double decay = model.ball.friction / model.ball.mass;  // 1/s
+    const double speed = std::hypot(state.ball.vx, state.ball.vy);
+    return speed * (decay > 0.0 ? -std::expm1(-decay * horizon) / decay : horizon);
+}
+
 void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out) {
     const std::size_t n = state.robots.size();
     out.robotTravel.resize(n);
@@ -201,10 +211,7 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
         out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon);
         farthest = std::max(farthest, out.robotTravel[i]);
     }
-    // Free flight of the ball is a straight line of length |v0| (1 - e^(-k T)) / k.
-    const double decay = model.ball.friction / model.ball.mass;  // 1/s
-    const double speed = std::hypot(state.ball.vx, state.ball.vy);
-    out.ballTravel = speed * (decay > 0.0 ? -std::expm1(-decay * horizon) / decay : horizon);
+    out.ballTravel = ballTravel(model, state, horizon);
     farthest = std::max(farthest, out.ballTravel);
     out.robots.assign(n, 1);
     out.ball = true;
@@ -284,19 +291,19 @@ std::int64_t Simulation::ordinaryStep() {
     return contacts;
 }
 
-bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) {
+bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) const {
     // A frozen body i, still at its start p_i0, moves at most travel_i in the
     // whole stretch. A stepping body j, now at p_j with its current state (a
     // collision may have sped it up), moves at most its travel bound over
     // the remaining time. Both discs must stay apart.
-    findFreeBodies(model_, state_, remaining, free_);  // for the stepping bodies' travel bounds
     const std::size_t n = state_.robots.size();
     auto reach = [this, n](std::size_t b) { return b < n ? model_.sides[b] / std::sqrt(2.0) : model_.ball.radius; };
     for (std::size_t j = 0; j <= n; ++j) {
         if (start.frozen[j]) continue;
         const double pjX = j < n ? state_.robots[j].x : state_.ball.x;
         const double pjY = j < n ? state_.robots[j].y : state_.ball.y;
-        const double jTravel = j < n ? free_.robotTravel[j] : free_.ballTravel;
+        const double jTravel = j < n ? robotTravelForIntegrator(model_, state_, j, remaining)
+                                     : ballTravel(model_, state_, remaining);
         for (std::size_t i = 0; i <= n; ++i) {
             if (!start.frozen[i]) continue;
             const double dx = pjX - start.x[i], dy = pjY - start.y[i];
@@ -312,11 +319,14 @@ std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_
     std::int64_t steps = 1;
     while (steps * 2 <= remaining) steps *= 2;
     for (; steps >= 2; steps /= 4) {
-        // frozenStillSafe also fills free_ for this horizon.
-        if (!frozenStillSafe(start, static_cast<double>(steps) * model_.settings.dt)) continue;
+        const double horizon = static_cast<double>(steps) * model_.settings.dt;
+        // Free among themselves and from the walls (the frozen bodies are
+        // checked properly below: they are not where findFreeBodies sees them)...
+        findFreeBodies(model_, state_, horizon, free_);
         bool allFree = start.frozen[n] || free_.ball;
         for (std::size_t i = 0; i < n && allFree; ++i) allFree = start.frozen[i] || free_.robots[i];
-        if (allFree) return steps;
+        // ...and out of the frozen bodies' reach.
+        if (allFree && frozenStillSafe(start, horizon)) return steps;
     }
     return 0;
 }
@@ -397,22 +407,24 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.tables = &tables_;
         steppingRobots_.resize(n);
         for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
-        std::int64_t done = 0, nextTry = 0;
+        std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
         bool stillSafe = true, touching = false;
         while (done < stretch && stillSafe) {
             // The stepping bodies, too, may be free for a while (a robot
             // nearing a wall, not yet at it): a long step of a power of two
             // times dt for them. Not while touching; after a failed try, wait
-            // a few steps.
+            // (twice as long after each failure in a row).
             if (skip && !touching && done >= nextTry && stretch - done >= 2) {
                 const std::int64_t steps = steppingFreeSteps(start, stretch - done);
                 if (steps >= 2) {
                     advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, !options.freeBall);
                     done += steps;
                     ++report.longSteps;
+                    wait = kFirstRetryWait;
                     continue;
                 }
-                nextTry = done + kRetryAfterSteps;
+                nextTry = done + wait;
+                wait = std::min(2 * wait, kLongestRetryWait);
             }
             const StepReport r = stepWorld(model_, state_, dt, options);
             report.contacts += r.contacts;

@@ -44,6 +44,10 @@ struct BodiesView {
     const BallState* ball = nullptr;
     double ballRadius = 0.0;
     bool broadPhase = true;  // robot pairs from broad_phase.h instead of all pairs (same contacts)
+    // Bodies known to be out of reach of everything (Simulation::advanceTo's
+    // free bodies): no test involving them can find a contact, so none is made.
+    const std::vector<char>* freeRobots = nullptr;  // non-zero entry: skip robot i
+    bool freeBall = false;
 };
 std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies);
 

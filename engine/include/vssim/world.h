@@ -158,9 +158,8 @@ private:
         std::vector<double> x, y;    // m
         std::vector<double> travel;  // m, over the whole stretch
     };
-    // Whether the stepping bodies still cannot reach the frozen ones within
-    // `remaining` s (fills free_ for that horizon).
-    bool frozenStillSafe(const FrozenStart& start, double remaining);
+    // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
+    bool frozenStillSafe(const FrozenStart& start, double remaining) const;
     // The longest power-of-two number of steps (<= remaining, >= 2) that the
     // stepping bodies can take with no contact possible, or 0.
     std::int64_t steppingFreeSteps(const FrozenStart& start, std::int64_t remaining);
