@@ -10,21 +10,34 @@ void candidatePairs(const std::vector<RobotState>& robots, const std::vector<dou
     const int n = static_cast<int>(robots.size());
     const std::size_t first = pairs.size();
     auto reach = [&](int i) { return sides[i] / std::sqrt(2.0) + margin; };  // m
+    const bool reuse = static_cast<int>(scratch.order.size()) == n;  // the order of the previous call
     scratch.order.resize(n);
     scratch.minX.resize(n);
     for (int i = 0; i < n; ++i) {
-        scratch.order[i] = i;
+        if (!reuse) scratch.order[i] = i;
         scratch.minX[i] = robots[i].x - reach(i);
     }
     // Ties broken by index, and NaN positions sorted last, so the order is total.
-    std::sort(scratch.order.begin(), scratch.order.end(), [&](int a, int b) {
+    auto before = [&](int a, int b) {
         const double xa = scratch.minX[a], xb = scratch.minX[b];
         if (xa < xb) return true;
         if (xb < xa) return false;
         const bool nanA = std::isnan(xa), nanB = std::isnan(xb);
         if (nanA != nanB) return nanB;
         return a < b;
-    });
+    };
+    if (reuse) {
+        // Bodies move little between calls: insertion sort of the previous
+        // order is about linear.
+        for (int k = 1; k < n; ++k) {
+            const int moving = scratch.order[k];
+            int l = k;
+            for (; l > 0 && before(moving, scratch.order[l - 1]); --l) scratch.order[l] = scratch.order[l - 1];
+            scratch.order[l] = moving;
+        }
+    } else {
+        std::sort(scratch.order.begin(), scratch.order.end(), before);
+    }
     for (int k = 0; k < n; ++k) {
         const int i = scratch.order[k];
         const double maxX = robots[i].x + reach(i);

@@ -147,9 +147,9 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
         if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
     };
     if (bodies.broadPhase) {
-        BroadPhaseScratch scratch;
+        BroadPhaseScratch fresh;
         std::vector<std::pair<int, int>> pairs;
-        candidatePairs(robots, sides, 0.0, scratch, pairs);
+        candidatePairs(robots, sides, 0.0, bodies.broadPhaseScratch ? *bodies.broadPhaseScratch : fresh, pairs);
         for (const auto& [i, j] : pairs) testPair(i, j);
     } else {
         for (int i = 0; i < n; ++i)

@@ -121,8 +121,8 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
     }
     const double sub = h / report.substeps;
     Bodies bodies{&state.robots, &model.robots, &state.ball, &model.ball};
-    const BodiesView view{&state.robots,    &model.sides,       &state.ball,     model.ball.radius,
-                          useBroadPhase(model, state), options.freeRobots, options.freeBall};
+    const BodiesView view{&state.robots,      &model.sides,       &state.ball,      model.ball.radius,
+                          useBroadPhase(model, state), options.freeRobots, options.freeBall, options.broadPhase};
 
     for (int s = 0; s < report.substeps; ++s) {
         for (std::size_t i = 0; i < state.robots.size(); ++i)
@@ -405,6 +405,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.freeBall = start.frozen[n] != 0;
         options.frozen = skip;
         options.tables = &tables_;
+        options.broadPhase = &broadPhase_;
         steppingRobots_.resize(n);
         for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
         std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;

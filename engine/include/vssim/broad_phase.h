@@ -24,10 +24,11 @@ constexpr int kBroadPhaseMinRobots = 16;
 // Appends to `pairs` every (i, j), i < j, whose grown bounding discs' boxes
 // overlap, sorted by i then j: the same order as the all-pairs loop, so the
 // contacts found (and so the results) do not depend on the broad phase.
-// `scratch` is reused between calls to avoid allocations.
+// `scratch` is reused between calls: it keeps the previous order along x,
+// which a world that moves a little per step only needs to touch up.
 struct BroadPhaseScratch {
-    std::vector<int> order;
-    std::vector<double> minX;
+    std::vector<int> order;   // robots by increasing left edge
+    std::vector<double> minX;  // left edges, m
 };
 void candidatePairs(const std::vector<RobotState>& robots, const std::vector<double>& sides, double margin,
                     BroadPhaseScratch& scratch, std::vector<std::pair<int, int>>& pairs);

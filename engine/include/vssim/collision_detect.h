@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "vssim/ball.h"
+#include "vssim/broad_phase.h"
 #include "vssim/contact.h"
 #include "vssim/field.h"
 #include "vssim/robot_state.h"
@@ -48,6 +49,7 @@ struct BodiesView {
     // free bodies): no test involving them can find a contact, so none is made.
     const std::vector<char>* freeRobots = nullptr;  // non-zero entry: skip robot i
     bool freeBall = false;
+    BroadPhaseScratch* broadPhaseScratch = nullptr;  // kept between calls (faster); null: a fresh one
 };
 std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies);
 

@@ -91,6 +91,8 @@ struct StepOptions {
     bool frozen = false;
     // Exact integrator: reuse tables; null builds each table when needed.
     ExactTableCache* tables = nullptr;
+    // Broad phase: keep the order along x between steps; null starts afresh.
+    BroadPhaseScratch* broadPhase = nullptr;
 };
 StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const StepOptions& options = {});
 
@@ -150,6 +152,7 @@ private:
     StepOptions cachedTables() {
         StepOptions options;
         options.tables = &tables_;
+        options.broadPhase = &broadPhase_;
         return options;
     }
     // Bodies frozen at the start of a stretch: where, and how far they may go.
@@ -167,6 +170,7 @@ private:
     std::vector<ScheduledCommand> schedule_;  // sorted by step, stable (file order on ties)
     std::size_t nextCommand_ = 0;
     ExactTableCache tables_;
+    BroadPhaseScratch broadPhase_;  // the contact tests' order along x, kept between steps
     // Work buffers of advanceTo (kept to avoid allocations; not state).
     FreeBodies free_;
     FrozenStart frozenStart_;
