@@ -15,6 +15,8 @@
 
 #include "csv_writer.h"
 #include "scene_io.h"
+#include "vssim/integrator.h"
+#include "vssim/robot_model.h"
 #include "vssim/world.h"
 
 namespace vssim {
@@ -149,6 +151,26 @@ bool applyOptions(const RunOptions& o, Scene& scene, QString* error) {
     return true;
 }
 
+// Steps beyond the integrator's stability limit for some robot (stiff
+// motors): the run is allowed (the user may want to see it), but said.
+QStringList stabilityWarnings(const Scene& scene) {
+    QStringList warnings;
+    const SimulationSettings& s = scene.simulation;
+    for (const RobotSpec& robot : scene.robots) {
+        const double rate = makeRobotModel(robot.params).fastestRate;  // 1/s
+        const double limit = stableStepLimit(s.integrator, rate);      // s
+        if (s.dt > limit)
+            warnings << QStringLiteral("warning: robot \"%1\" has a motor time constant of %2 ms: %3 is unstable "
+                                       "for dt > %4 ms (dt = %5 ms); use --integrator exact or a --dt below %4 ms")
+                            .arg(QString::fromStdString(robot.name))
+                            .arg(1e3 / rate, 0, 'g', 3)
+                            .arg(integratorName(s.integrator))
+                            .arg(limit * 1e3, 0, 'g', 3)
+                            .arg(s.dt * 1e3, 0, 'g', 3);
+    }
+    return warnings;
+}
+
 class ProgressReporter {
 public:
     explicit ProgressReporter(std::int64_t total) : total_(total), enabled_(isatty(STDERR_FILENO)) { clock_.start(); }
@@ -210,7 +232,8 @@ QString runHelpText() {
         "  -h, --help              show this help\n"
         "\n"
         "Built-in scenes: %1\n"
-        "A summary (steps, contacts, run time, real-time factor) goes to standard error.\n"
+        "A summary (steps, contacts, run time, real-time factor) goes to standard error, and a\n"
+        "warning when dt is beyond Euler's or RK4's stability limit for a robot of the scene.\n"
         "Exit status: 0 success, 2 bad option or scene, 1 failed to write the output.\n")
         .arg(builtinSceneNames().join(", "));
 }
@@ -236,6 +259,7 @@ int runCommand(const QStringList& arguments) {
         err() << "vssim run: " << error << "\n";
         return 2;
     }
+    for (const QString& warning : stabilityWarnings(*scene)) err() << "vssim run: " << warning << "\n";
 
     std::unique_ptr<QIODevice> device;
     QSaveFile* saveFile = nullptr;

@@ -49,13 +49,18 @@ Scene freeFlightScene(std::uint32_t seed, double duration, double period) {
     return scene;
 }
 
-Scene kickoffWithRandomVoltages(const std::string& sceneFile, std::uint32_t seed, double duration, double period) {
+Scene loadScene(const std::string& file) {
     QString error;
-    std::optional<Scene> scene = loadSceneFile(QString::fromStdString(sceneFile), &error);
+    std::optional<Scene> scene = loadSceneFile(QString::fromStdString(file), &error);
     if (!scene) throw std::runtime_error(error.toStdString());
-    std::mt19937 rng(seed);
-    addRandomVoltages(*scene, rng, duration, period);
     return *scene;
+}
+
+Scene kickoffWithRandomVoltages(const std::string& sceneFile, std::uint32_t seed, double duration, double period) {
+    Scene scene = loadScene(sceneFile);
+    std::mt19937 rng(seed);
+    addRandomVoltages(scene, rng, duration, period);
+    return scene;
 }
 
 Scene crowdScene(std::uint32_t seed, int robots, double duration) {

@@ -20,6 +20,9 @@ double uniform(std::mt19937& rng, double lo, double hi);
 // integrator's alone. Random voltages in +-7.4 V every `period` seconds.
 Scene freeFlightScene(std::uint32_t seed, double duration, double period);
 
+// A scene file; throws std::runtime_error with the file's error message.
+Scene loadScene(const std::string& file);
+
 // The shipped 3-vs-3 kick-off scene (resources/scenes/kickoff_3v3.json),
 // its commands replaced by random voltages every `period` seconds, as a
 // controller would send them.

@@ -9,6 +9,7 @@ namespace vssim::bench {
 
 struct Options {
     std::string sceneFile;  // the 3-vs-3 scene file
+    std::string sceneDir;   // resources/scenes of the source tree
     bool quick = false;     // fewer configurations and repetitions (a smoke run)
 };
 

@@ -36,7 +36,8 @@ const char* kHelp =
 int main(int argc, char** argv) {
     QCoreApplication app(argc, argv);  // Qt Core only for reading the scene file
     vssim::bench::Options options;
-    options.sceneFile = VSSIM_SOURCE_DIR "/resources/scenes/kickoff_3v3.json";
+    options.sceneDir = VSSIM_SOURCE_DIR "/resources/scenes";
+    options.sceneFile = options.sceneDir + "/kickoff_3v3.json";
     std::string outDir = "bench-results";
     using Bench = int (*)(const vssim::bench::Options&, std::ostream&, std::ostream&);
     const std::map<std::string, std::pair<Bench, const char*>> benches = {

@@ -17,13 +17,11 @@ namespace vssim::bench {
 
 int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log) {
     const double duration = options.quick ? 5.0 : 60.0;  // s
-    QString error;
-    const std::optional<Scene> shipped = loadSceneFile(QString::fromStdString(options.sceneFile), &error);
-    if (!shipped) throw std::runtime_error(error.toStdString());
+    const Scene shipped = loadScene(options.sceneFile);
     const struct {
         const char* name;
         Scene scene;
-    } scenarios[] = {{"kickoff as shipped", *shipped},
+    } scenarios[] = {{"kickoff as shipped", shipped},
                      {"kickoff, random voltages every 30 ms", kickoffWithRandomVoltages(options.sceneFile, 7, duration, 0.03)}};
     struct Setting {
         const char* name;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iomanip>
 
+#include "bench_scenes.h"
 #include "bench_timing.h"
 #include "benchmarks.h"
 #include "vssim/integrator.h"
@@ -14,21 +15,6 @@
 namespace vssim::bench {
 
 namespace {
-
-// Stiff but valid: a light robot on strong, low-resistance motors with tiny
-// rotor inertia (the fastest mode decays in about 0.2 ms).
-RobotParams stiffRobot() {
-    RobotParams p;
-    p.mass = 0.05;
-    p.inertia = 2e-5;
-    for (MotorParams* m : {&p.right, &p.left}) {
-        m->rotor_inertia = 1e-7;
-        m->resistance = 0.5;
-        m->k = 0.3;
-    }
-    p.left.resistance = 0.6;  // and not symmetric
-    return p;
-}
 
 // Stable: from rest under constant voltages, 2000 steps stay bounded and
 // end at the steady state (within 1e-6 relative, or the run is too short to
@@ -58,12 +44,15 @@ double stabilityLimit(const RobotModel& m, Integrator method) {
 
 }  // namespace
 
-int stability(const Options&, std::ostream& out, std::ostream& log) {
+int stability(const Options& options, std::ostream& out, std::ostream& log) {
     struct Robot {
         const char* name;
         RobotParams params;
     };
-    const Robot robots[] = {{"default", RobotParams{}}, {"stiff", stiffRobot()}};
+    // Stiff but valid: resources/scenes/stiff_robot.json, a light robot on
+    // strong, low-resistance motors with tiny rotor inertia.
+    const Scene stiff = loadScene(options.sceneDir + "/stiff_robot.json");
+    const Robot robots[] = {{"default", RobotParams{}}, {"stiff", stiff.robots.at(0).params}};
     out << "robot,fastest_rate_per_s,integrator,theory_limit_s,measured_limit_s\n" << std::setprecision(6);
     for (const Robot& r : robots) {
         const RobotModel m = makeRobotModel(r.params);
@@ -73,9 +62,9 @@ int stability(const Options&, std::ostream& out, std::ostream& log) {
             const char* name;
             Integrator method;
             double theory;
-        } rows[] = {{"euler", Integrator::Euler, 2.0 / m.fastestRate},
-                    {"rk4", Integrator::Rk4, 2.785293563405282 / m.fastestRate},
-                    {"exact", Integrator::Exact, INFINITY}};
+        } rows[] = {{"euler", Integrator::Euler, stableStepLimit(Integrator::Euler, m.fastestRate)},
+                    {"rk4", Integrator::Rk4, stableStepLimit(Integrator::Rk4, m.fastestRate)},
+                    {"exact", Integrator::Exact, stableStepLimit(Integrator::Exact, m.fastestRate)}};
         for (const auto& row : rows) {
             const double measured = stabilityLimit(m, row.method);
             out << r.name << ',' << m.fastestRate << ',' << row.name << ',' << row.theory << ',' << measured << '\n';

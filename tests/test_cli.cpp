@@ -2,36 +2,20 @@
 // of bad input giving a clear message, a non-zero exit and no output file.
 #include <QtTest>
 
-#include <QProcess>
 #include <QTemporaryDir>
+#include <Eigen/Eigenvalues>
 
+#include "run_vssim.h"
 #include "scene_io.h"
+#include "vssim/robot_model.h"
 #include "vssim/world.h"
 
 using namespace vssim;
 
 namespace {
 
-struct Result {
-    int exitCode = -1;
-    QByteArray out;
-    QByteArray err;
-};
-
-Result runVssim(const QStringList& args) {
-    QProcess p;
-    p.start(VSSIM_BINARY, args);
-    Result r;
-    if (!p.waitForFinished(120000)) {
-        p.kill();
-        r.err = "timed out";
-        return r;
-    }
-    r.exitCode = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
-    r.out = p.readAllStandardOutput();
-    r.err = p.readAllStandardError();
-    return r;
-}
+using test::Result;
+using test::runVssim;
 
 QString sceneFile(const char* name) { return QStringLiteral(VSSIM_SOURCE_DIR "/resources/scenes/%1").arg(name); }
 
@@ -53,6 +37,7 @@ private slots:
     void badInput();
     void badInputLeavesExistingFileAlone();
     void noArgumentsRunsTheDemo();
+    void warnsWhenTheStepIsUnstable();
 };
 
 void TestCli::helpDescribesEveryOption() {
@@ -206,6 +191,33 @@ void TestCli::noArgumentsRunsTheDemo() {
     QVERIFY(r.out.contains("kickoff_3v3"));
     QVERIFY(r.out.contains("yellow0"));
     QVERIFY(r.out.contains("ball"));
+}
+
+void TestCli::warnsWhenTheStepIsUnstable() {
+    // The stiff robot's fastest time constant is 36 us: RK4 at 1 ms is ten
+    // times past its limit (101 us) and says so; exact, or RK4 at 50 us, does not.
+    const Result rk4 = runVssim({"run", "stiff_robot", "--duration", "0.01"});
+    QCOMPARE(rk4.exitCode, 0);
+    // The limit, from A's eigenvalues found by Eigen's solver (independent of
+    // the engine's closed form): 2.785 / |lambda|max.
+    QString error;
+    const std::optional<Scene> scene = loadSceneFile(sceneFile("stiff_robot.json"), &error);
+    QVERIFY2(scene, qPrintable(error));
+    const Eigen::Vector2d rates = makeRobotModel(scene->robots[0].params).A.eigenvalues().real();
+    const double fastest = rates.cwiseAbs().maxCoeff();  // 1/s
+    const QString expected = QStringLiteral("warning: robot \"stiff\" has a motor time constant of %1 ms: rk4 is unstable "
+                                            "for dt > %2 ms (dt = 1 ms); use --integrator exact")
+                                 .arg(1e3 / fastest, 0, 'g', 3)
+                                 .arg(2.785293563405282e3 / fastest, 0, 'g', 3);
+    QVERIFY2(QString::fromUtf8(rk4.err).contains(expected), qPrintable("expected: " + expected + "\ngot: " + rk4.err));
+    const Result exact = runVssim({"run", "stiff_robot", "--duration", "0.01", "--integrator", "exact"});
+    const Result fine = runVssim({"run", "stiff_robot", "--duration", "0.01", "--dt", "0.00005"});
+    QCOMPARE(exact.exitCode, 0);
+    QCOMPARE(fine.exitCode, 0);
+    QVERIFY2(!exact.err.contains("warning"), exact.err.constData());
+    QVERIFY2(!fine.err.contains("warning"), fine.err.constData());
+    // The default robot is far from any limit.
+    QVERIFY(!runVssim({"run", "kickoff_3v3", "--duration", "0.01", "--dt", "0.1"}).err.contains("warning"));
 }
 
 QTEST_GUILESS_MAIN(TestCli)

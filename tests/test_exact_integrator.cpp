@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "scene_io.h"
 #include "test_support.h"
 #include "vssim/exact_integrator.h"
 #include "vssim/geometry.h"
@@ -56,18 +57,14 @@ RobotState referenceRk4(const RobotModel& m, RobotState s, const Voltages& e, do
     return s;
 }
 
-// A robot whose motors are extremely stiff (tiny rotor inertia, low
-// resistance, strong motor): its fastest mode decays in microseconds.
+// The robot of resources/scenes/stiff_robot.json: extremely stiff motors
+// (tiny rotor inertia, low resistance, strong motor), whose fastest mode
+// decays in 36 us. The same scene feeds the stability benchmark.
 RobotParams stiffParams() {
-    RobotParams p;
-    p.mass = 0.05;
-    p.inertia = 2e-5;
-    for (MotorParams* m : {&p.right, &p.left}) {
-        m->rotor_inertia = 1e-7;
-        m->resistance = 0.5;
-        m->k = 0.3;
-    }
-    return p;
+    QString error;
+    const std::optional<Scene> scene = loadSceneFile(VSSIM_SOURCE_DIR "/resources/scenes/stiff_robot.json", &error);
+    if (!scene || scene->robots.empty()) qFatal("stiff_robot.json: %s", qPrintable(error));
+    return scene->robots[0].params;
 }
 
 }  // namespace

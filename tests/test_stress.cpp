@@ -4,7 +4,6 @@
 // injected into a hand-made state.
 #include <QtTest>
 
-#include <QProcess>
 #include <cmath>
 #include <limits>
 
@@ -12,32 +11,15 @@
 #include "stress_checks.h"
 #include "stress_scenes.h"
 #include "vssim/robot_model.h"
+#include "run_vssim.h"
 #include "vssim/world.h"
 
 using namespace vssim;
 
 namespace {
 
-struct Result {
-    int exitCode = -1;
-    QByteArray out;
-    QByteArray err;
-};
-
-Result runVssim(const QStringList& args) {
-    QProcess p;
-    p.start(VSSIM_BINARY, args);
-    Result r;
-    if (!p.waitForFinished(120000)) {
-        p.kill();
-        r.err = "timed out";
-        return r;
-    }
-    r.exitCode = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
-    r.out = p.readAllStandardOutput();
-    r.err = p.readAllStandardError();
-    return r;
-}
+using test::Result;
+using test::runVssim;
 
 // The table lines (those starting with a scene number), split into columns:
 // scene, kind, integrator, dt, model (one or two words), steps, ...

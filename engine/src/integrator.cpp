@@ -59,6 +59,12 @@ void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& 
     unpack(q, state);
 }
 
+double stableStepLimit(Integrator method, double fastestRate) {
+    if (method == Integrator::Exact || !(fastestRate > 0.0)) return INFINITY;
+    // |1 + z| <= 1 for Euler; |1 + z + z^2/2 + z^3/6 + z^4/24| <= 1 for RK4 on the negative real axis.
+    return (method == Integrator::Euler ? 2.0 : 2.785293563405282) / fastestRate;
+}
+
 void integrateBall(const BallParams& params, BallState& state, double h, Integrator method) {
     if (method == Integrator::Exact) {
         integrateBallExact(params, state, h);

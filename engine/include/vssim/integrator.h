@@ -20,6 +20,12 @@ enum class Integrator {
 void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
                     Integrator method);
 
+// The longest step, s, for which `method` is stable on a linear system whose
+// fastest mode decays at `fastestRate` (1/s, e.g. RobotModel::fastestRate):
+// 2/rate for Euler, 2.785/rate for RK4 (the real-axis ends of their
+// stability regions), infinite for the exact integrator.
+double stableStepLimit(Integrator method, double fastestRate);
+
 // Advances the ball by h seconds (free flight with viscous damping).
 void integrateBall(const BallParams& params, BallState& state, double h, Integrator method);
 

@@ -1,0 +1,32 @@
+// Runs the built vssim binary from a test and collects what it did.
+#pragma once
+
+#include <QByteArray>
+#include <QProcess>
+#include <QStringList>
+
+namespace vssim::test {
+
+struct Result {
+    int exitCode = -1;  // -1: crashed or timed out
+    QByteArray out;     // standard output
+    QByteArray err;     // standard error
+};
+
+// Runs VSSIM_BINARY with `args`, waiting at most two minutes.
+inline Result runVssim(const QStringList& args) {
+    QProcess p;
+    p.start(VSSIM_BINARY, args);
+    Result r;
+    if (!p.waitForFinished(120000)) {
+        p.kill();
+        r.err = "timed out";
+        return r;
+    }
+    r.exitCode = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+    r.out = p.readAllStandardOutput();
+    r.err = p.readAllStandardError();
+    return r;
+}
+
+}  // namespace vssim::test
