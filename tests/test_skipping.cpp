@@ -56,11 +56,16 @@ bool sameContacts(const std::vector<Contact>& a, const std::vector<Contact>& b) 
     return true;
 }
 
+// Largest difference of positions (m), headings (as 5 cm of arc per rad) and
+// velocities (as the distance covered in 10 ms).
 double maxStateDifference(const WorldState& a, const WorldState& b) {
-    double worst = std::max(std::abs(a.ball.x - b.ball.x), std::abs(a.ball.y - b.ball.y));
+    double worst = std::max({std::abs(a.ball.x - b.ball.x), std::abs(a.ball.y - b.ball.y),
+                             0.01 * std::abs(a.ball.vx - b.ball.vx), 0.01 * std::abs(a.ball.vy - b.ball.vy)});
     for (std::size_t i = 0; i < a.robots.size(); ++i)
         worst = std::max({worst, std::abs(a.robots[i].x - b.robots[i].x), std::abs(a.robots[i].y - b.robots[i].y),
-                          0.05 * std::abs(a.robots[i].theta - b.robots[i].theta)});
+                          0.05 * std::abs(a.robots[i].theta - b.robots[i].theta),
+                          0.01 * std::abs(a.robots[i].v - b.robots[i].v),
+                          0.0005 * std::abs(a.robots[i].omega - b.robots[i].omega)});
     return worst;
 }
 
@@ -74,6 +79,8 @@ private slots:
     void broadPhaseRunIsBitIdentical();
     void contactFreeStepsReallyAreContactFree();
     void longStepsAgreeWithFixedSteps();
+    void resultsDoNotDependOnHowTheRunIsCut();
+    void contactPushingIntoAFreeBodyIsNotMissed();
     void longStepsCoverFreeFlightInFewSteps();
     void freeBodiesTakeLongStepsBesideAContact();
     void kickedBallStillReachesAFrozenRobot();
@@ -172,32 +179,86 @@ void TestSkipping::contactFreeStepsReallyAreContactFree() {
 }
 
 void TestSkipping::longStepsAgreeWithFixedSteps() {
-    // Six robots and the ball with random voltages every 30 ms: with long
-    // steps the states agree with steps of dt to rounding at every sample
-    // (over 1 s, before chaos amplifies rounding), through the same
-    // collisions: a missed or shifted one would move a body by millimetres.
-    // (Contact counts themselves are not compared: a body resting against a
-    // wall touches it or not by a rounding error, step by step.)
+    // Six robots and the ball with random voltages every 30 ms, the exact
+    // integrator: advanceTo with long steps, and without, against the plain
+    // reference, Simulation::step() one step at a time. The states agree to
+    // rounding at every sample (over 1 s, before chaos amplifies rounding),
+    // through the same collisions: a missed or shifted one would move a body
+    // by millimetres. (Contact counts themselves are not compared: a body
+    // resting against a wall touches it or not by a rounding error.)
     for (std::uint32_t seed = 1; seed <= 10; ++seed) {
         Scene scene = crowd(seed, 6, 0.4);
         addRandomCommands(scene, seed, 1.0, 0.03);
         scene.simulation.integrator = Integrator::Exact;
-        Scene fixed = scene;
-        fixed.simulation.long_steps = false;
-        Simulation a(scene), b(fixed);
-            std::int64_t contactsA = 0, contactsB = 0, longSteps = 0;
+        Scene planned = scene;
+        planned.simulation.long_steps = false;
+        Simulation longSteps(scene), plannedFixed(planned), reference(scene);
+        std::int64_t contacts = 0, taken = 0;
         for (std::int64_t sample = 1; sample <= 20; ++sample) {
-            const AdvanceReport r = a.advanceTo(sample * 50);
-            contactsA += r.contacts;
-            longSteps += r.longSteps;
-            contactsB += b.advanceTo(sample * 50).contacts;
-            QCOMPARE(a.state().step, b.state().step);
-            const double diff = maxStateDifference(a.state(), b.state());
-            QVERIFY2(diff < 1e-9, qPrintable(QString("seed %1, t=%2: states differ by %3 m").arg(seed).arg(a.state().time).arg(diff)));
+            const AdvanceReport r = longSteps.advanceTo(sample * 50);
+            taken += r.longSteps;
+            plannedFixed.advanceTo(sample * 50);
+            while (reference.state().step < sample * 50) contacts += reference.step().contacts;
+            for (const Simulation* sim : {&longSteps, &plannedFixed}) {
+                QCOMPARE(sim->state().step, reference.state().step);
+                const double diff = maxStateDifference(sim->state(), reference.state());
+                QVERIFY2(diff < 1e-9, qPrintable(QString("seed %1, t=%2: states differ by %3 m (%4)")
+                                                     .arg(seed).arg(reference.state().time).arg(diff)
+                                                     .arg(sim == &longSteps ? "long steps" : "planned, fixed steps")));
+            }
         }
-        QVERIFY(contactsA > 0 && contactsB > 0);
-        QVERIFY(longSteps > 0);
+        QVERIFY(contacts > 0);
+        QVERIFY(taken > 0);
     }
+}
+
+void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
+    // The same scene advanced in chunks of 1, 4 and 37 steps and in one call
+    // gives the same states to rounding as step() (the plan never changes
+    // the sub-steps or the contacts), here with a fast ball among the robots.
+    for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+        Scene scene = crowd(100 + seed, 8, 0.3);
+        addRandomCommands(scene, seed, 0.3, 0.03);
+        scene.ball.vx = 6.0;
+        scene.ball.vy = -4.0;
+        scene.simulation.integrator = Integrator::Exact;
+        scene.simulation.dt = 0.002;
+        Simulation reference(scene);
+        while (reference.state().step < 150) reference.step();
+        for (const std::int64_t chunk : {std::int64_t(1), std::int64_t(4), std::int64_t(37), std::int64_t(150)}) {
+            Simulation sim(scene);
+            for (std::int64_t target = chunk; sim.state().step < 150; target = std::min<std::int64_t>(150, target + chunk))
+                sim.advanceTo(target);
+            const double diff = maxStateDifference(sim.state(), reference.state());
+            QVERIFY2(diff < 1e-9, qPrintable(QString("seed %1, chunks of %2: differs by %3 m").arg(seed).arg(chunk).arg(diff)));
+        }
+    }
+}
+
+void TestSkipping::contactPushingIntoAFreeBodyIsNotMissed() {
+    // Two robots at rest, corners 0.2 mm apart, and the ball fired at the
+    // first: at the start only the first is near anything (the ball), so the
+    // second is free. The ball's hit sends the first into the second within
+    // one step: that step is taken again with both, as step() does.
+    Scene scene;
+    scene.simulation.integrator = Integrator::Exact;
+    scene.robots.push_back(test::robotAt("a", 0.0, 0.0, M_PI / 4));
+    scene.robots.push_back(test::robotAt("b", 0.106266, 0.0, M_PI / 4));
+    scene.ball.x = -0.110383;
+    scene.ball.vx = 8.0;
+    Simulation reference(scene), planned(scene), oneCall(scene);
+    AdvanceReport r;
+    for (std::int64_t t = 1; t <= 40; ++t) {
+        reference.step();
+        const AdvanceReport step = planned.advanceTo(t);
+        r.replans += step.replans;
+        QVERIFY2(maxStateDifference(planned.state(), reference.state()) < 1e-12,
+                 qPrintable(QString("step %1: differs by %2 m").arg(t).arg(maxStateDifference(planned.state(), reference.state()))));
+    }
+    oneCall.advanceTo(40);
+    QVERIFY(maxStateDifference(oneCall.state(), reference.state()) < 1e-12);
+    QVERIFY2(reference.state().robots[1].v != 0.0 || reference.state().robots[1].x != 0.106266,
+             "the second robot was never hit: the scene does not test anything");
 }
 
 void TestSkipping::longStepsCoverFreeFlightInFewSteps() {
@@ -268,6 +329,7 @@ void TestSkipping::kickedBallStillReachesAFrozenRobot() {
     QVERIFY(sim.contactFreeSteps(299) < 299);  // not everybody is free...
     const AdvanceReport r = sim.advanceTo(300);
     QVERIFY(r.longSteps >= 1);  // ...but the target was
+    QVERIFY(r.replans >= 1);    // and the kick made the plan start again
     scene.simulation.long_steps = false;
     Simulation fixed(scene);
     fixed.advanceTo(300);

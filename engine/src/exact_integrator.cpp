@@ -70,7 +70,7 @@ ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels)
     if (model.fastestRate * even > kPanelDecay) {
         // Graded panels over the fast transient: each one twice as long.
         double length = kPanelDecay / model.fastestRate;
-        while (length < even && start + length < 0.5 * h) {
+        while (length < even && start + length < h) {
             t.kinds.push_back(makePanel(model, length, 1));
             start += length;
             length *= 2.0;

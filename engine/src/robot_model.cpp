@@ -87,6 +87,14 @@ Eigen::Vector2d steadyStateVelocity(const RobotModel& model, const Voltages& e) 
     return model.B.lu().solve(model.K * Eigen::Vector2d(e.right, e.left));
 }
 
+Eigen::Vector2d velocityAfter(const RobotModel& model, const RobotState& state, const Voltages& e, double t) {
+    const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    const Eigen::Vector2d offset = Eigen::Vector2d(state.v, state.omega) - target;
+    Eigen::Vector2d u = target;
+    for (int k = 0; k < 2; ++k) u += std::exp(model.modeRate[k] * t) * (model.modeProjector[k] * offset);
+    return u;
+}
+
 Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
     const Eigen::Vector2d u0(state.v, state.omega);
     const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);

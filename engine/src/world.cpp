@@ -20,12 +20,14 @@ constexpr int kContactPasses = 8;
 constexpr int kContainmentPasses = 2;
 
 int substepsFor(const WorldModel& model, const WorldState& state, double h, const StepOptions& options) {
+    const bool frozen = options.frozen && options.frozenRobotSpeed;
     double smallest = model.ball.radius;
-    double fastest = options.freeBall ? 0.0 : std::hypot(state.ball.vx, state.ball.vy);
+    double fastest = frozen && options.freeBall ? options.frozenBallSpeed : std::hypot(state.ball.vx, state.ball.vy);
     for (std::size_t i = 0; i < state.robots.size(); ++i) {
         smallest = std::min(smallest, 0.5 * model.sides[i]);
-        if (options.freeRobots && (*options.freeRobots)[i]) continue;
-        fastest = std::max(fastest, pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]));
+        const bool isFrozen = frozen && options.freeRobots && (*options.freeRobots)[i];
+        fastest = std::max(fastest, isFrozen ? (*options.frozenRobotSpeed)[i]
+                                             : pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]));
     }
     const double travel = fastest * h;
     const double allowed = kMaxTravelFraction * smallest;
@@ -196,11 +198,13 @@ static double robotTravelForIntegrator(const WorldModel& model, const WorldState
     return 2.0 * velocityBound(robot, state.robots[i], state.voltages[i])(0) * horizon;
 }
 
-// Free flight of the ball is a straight line of length |v0| (1 - e^(-k T)) / k, m.
+// Free flight of the ball is a straight line of length |v0| (1 - e^(-k T)) / k, m;
+// Euler and RK4 move it by up to |v0| T in one step.
 static double ballTravel(const WorldModel& model, const WorldState& state, double horizon) {
     const double decay = model.ball.friction / model.ball.mass;  // 1/s
     const double speed = std::hypot(state.ball.vx, state.ball.vy);
-    return speed * (decay > 0.0 ? -std::expm1(-decay * horizon) / decay : horizon);
+    if (model.settings.integrator != Integrator::Exact || !(decay > 0.0)) return speed * horizon;
+    return speed * -std::expm1(-decay * horizon) / decay;
 }
 
 void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out) {
@@ -291,7 +295,7 @@ std::int64_t Simulation::ordinaryStep() {
     return contacts;
 }
 
-bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) const {
+bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, double margin) const {
     // A frozen body i, still at its start p_i0, moves at most travel_i in the
     // whole stretch. A stepping body j, now at p_j with its current state (a
     // collision may have sped it up), moves at most its travel bound over
@@ -302,8 +306,11 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) con
         if (start.frozen[j]) continue;
         const double pjX = j < n ? state_.robots[j].x : state_.ball.x;
         const double pjY = j < n ? state_.robots[j].y : state_.ball.y;
-        const double jTravel = j < n ? robotTravelForIntegrator(model_, state_, j, remaining)
-                                     : ballTravel(model_, state_, remaining);
+        const double speed = j < n ? pointSpeedBound(model_.robots[j], state_.robots[j], state_.voltages[j])
+                                   : std::hypot(state_.ball.vx, state_.ball.vy);
+        const double jTravel = (j < n ? robotTravelForIntegrator(model_, state_, j, remaining)
+                                      : ballTravel(model_, state_, remaining)) +
+                               2.0 * speed * margin;
         for (std::size_t i = 0; i <= n; ++i) {
             if (!start.frozen[i]) continue;
             const double dx = pjX - start.x[i], dy = pjY - start.y[i];
@@ -312,6 +319,19 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining) con
         }
     }
     return true;
+}
+
+void Simulation::frozenSpeeds(const FrozenStart& start, double elapsed) {
+    const std::size_t n = state_.robots.size();
+    frozenSpeed_.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!start.frozen[i]) continue;
+        RobotState now = start.robots[i];
+        const Eigen::Vector2d u = velocityAfter(model_.robots[i], now, state_.voltages[i], elapsed);
+        now.v = u(0);
+        now.omega = u(1);
+        frozenSpeed_[i] = pointSpeedBound(model_.robots[i], now, state_.voltages[i]);
+    }
 }
 
 std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_t remaining) {
@@ -345,7 +365,8 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         std::int64_t next = target;
         if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
         const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
-        if (!plan) {
+        if (!plan || forceOrdinaryStep_) {
+            forceOrdinaryStep_ = false;
             report.contacts += ordinaryStep();
             ++report.stepCalls;
             continue;
@@ -399,6 +420,8 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         for (std::size_t i = 0; i < n; ++i) start.x[i] = state_.robots[i].x, start.y[i] = state_.robots[i].y;
         start.x[n] = state_.ball.x;
         start.y[n] = state_.ball.y;
+        start.robots = state_.robots;
+        start.ball = state_.ball;
         frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
         StepOptions options;
         options.freeRobots = &frozenRobots_;
@@ -406,6 +429,8 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.frozen = skip;
         options.tables = &tables_;
         options.broadPhase = &broadPhase_;
+        options.frozenRobotSpeed = &frozenSpeed_;
+        const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s
         steppingRobots_.resize(n);
         for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
         std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
@@ -427,12 +452,29 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
                 nextTry = done + wait;
                 wait = std::min(2 * wait, kLongestRetryWait);
             }
+            if (skip) {
+                const double elapsed = static_cast<double>(done) * dt;  // s into the stretch
+                frozenSpeeds(start, elapsed);
+                options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * elapsed);
+            }
+            beforeStep_ = state_;
             const StepReport r = stepWorld(model_, state_, dt, options);
+            // A contact may have sent a stepping body towards a free one (the
+            // contact tests skip free bodies): then undo this step, bring the
+            // free bodies to the present and take the step again with
+            // everybody. The margin covers what a body can move within the
+            // step after a contact.
+            if (r.contacts > 0 && !frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+                state_ = beforeStep_;
+                stillSafe = false;
+                forceOrdinaryStep_ = true;
+                ++report.replans;
+                break;
+            }
             report.contacts += r.contacts;
             ++report.stepCalls;
             ++done;
             touching = r.contacts > 0;
-            if (r.contacts > 0 && done < stretch) stillSafe = frozenStillSafe(start, static_cast<double>(stretch - done) * dt);
         }
         if (skip) {  // the frozen bodies catch up: by the whole stretch, or to the present
             advanceBodies(static_cast<double>(done) * dt, &frozenRobots_, options.freeBall);

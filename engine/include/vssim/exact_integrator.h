@@ -44,8 +44,9 @@ struct ExactPanel {
 // computed once and reused. The panels: `panels` equal ones (the heading
 // criterion), except that when the fastest mode would decay by more than
 // e^-kPanelDecay across one, the step starts with panels of 1, 2, 4, ...
-// times kPanelDecay/|lambda| (a stiff motor's transient), then goes on with
-// equal ones.
+// times kPanelDecay/|lambda| (a stiff motor's transient) until they are as
+// long as the equal ones, then goes on with equal ones. Every mode's panels
+// then stay short while it is still large.
 struct ExactStepTable {
     double h = 0.0;   // whole step, s
     int panels = 1;   // panels asked for (the heading criterion)

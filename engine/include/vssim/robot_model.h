@@ -45,6 +45,10 @@ Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2
 // u_inf = B^-1 K e, the steady state under constant voltages.
 Eigen::Vector2d steadyStateVelocity(const RobotModel& model, const Voltages& e);
 
+// u(t) = u_inf + sum_k e^(rate_k t) P_k (u0 - u_inf): the body velocity t
+// seconds after `state` under constant voltages e with nothing touching it.
+Eigen::Vector2d velocityAfter(const RobotModel& model, const RobotState& state, const Voltages& e, double t);
+
 // Bounds on |v(t)| and |w(t)| for all t >= 0 while the voltages stay e and
 // nothing touches the robot: with u(t) = sum_k [e^(rate_k t) P_k u0 +
 // (1 - e^(rate_k t)) P_k u_inf], each mode's share lies between its start

@@ -55,6 +55,7 @@ struct AdvanceReport {
     std::int64_t steps = 0;       // steps of dt advanced
     std::int64_t stepCalls = 0;   // ordinary steps (integration + contacts)
     std::int64_t longSteps = 0;   // contact-free long steps (exact integrator), each several dt
+    std::int64_t replans = 0;     // stretches planned again: a contact brought a body near a free one
     std::int64_t contacts = 0;    // contacts found, summed over the steps
 };
 
@@ -84,11 +85,16 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
 // Optional parts of a step.
 struct StepOptions {
     // Bodies known to be out of everybody's reach for this step
-    // (Simulation::advanceTo): they do not decide the sub-steps, and when
+    // (Simulation::advanceTo): the contact tests skip them, and when
     // `frozen`, they are not integrated either (a long step moves them).
     const std::vector<char>* freeRobots = nullptr;  // non-zero entry: robot i is free
     bool freeBall = false;
     bool frozen = false;
+    // With `frozen`, their speed bounds now (pointSpeedBound of their true
+    // current state, m/s): the sub-steps depend on every body, frozen or not,
+    // so that the results do not depend on how the run was planned.
+    const std::vector<double>* frozenRobotSpeed = nullptr;
+    double frozenBallSpeed = 0.0;
     // Exact integrator: reuse tables; null builds each table when needed.
     ExactTableCache* tables = nullptr;
     // Broad phase: keep the order along x between steps; null starts afresh.
@@ -158,11 +164,16 @@ private:
     // Bodies frozen at the start of a stretch: where, and how far they may go.
     struct FrozenStart {
         std::vector<char> frozen;    // per body, robots then the ball
+        std::vector<RobotState> robots;  // the robots at the start of the stretch
+        BallState ball;
         std::vector<double> x, y;    // m
         std::vector<double> travel;  // m, over the whole stretch
     };
     // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
-    bool frozenStillSafe(const FrozenStart& start, double remaining) const;
+    // `margin` (s) adds that many seconds at each stepping body's speed bound, twice.
+    bool frozenStillSafe(const FrozenStart& start, double remaining, double margin = 0.0) const;
+    // The frozen bodies' speed bounds `elapsed` seconds into the stretch.
+    void frozenSpeeds(const FrozenStart& start, double elapsed);
     // The longest power-of-two number of steps (<= remaining, >= 2) that the
     // stepping bodies can take with no contact possible, or 0.
     std::int64_t steppingFreeSteps(const FrozenStart& start, std::int64_t remaining);
@@ -176,6 +187,9 @@ private:
     FrozenStart frozenStart_;
     std::vector<char> frozenRobots_;
     std::vector<char> steppingRobots_;
+    std::vector<double> frozenSpeed_;  // per robot, m/s (frozen ones only)
+    WorldState beforeStep_;            // to undo a step that reached a frozen body
+    bool forceOrdinaryStep_ = false;   // the next step takes every body
 };
 
 }  // namespace vssim
