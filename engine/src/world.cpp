@@ -431,6 +431,19 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.broadPhase = &broadPhase_;
         options.frozenRobotSpeed = &frozenSpeed_;
         const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s
+        // A frozen body's speed bound only falls along its free trajectory
+        // (each mode's share moves towards its end), so when the bounds at the
+        // start of the stretch cannot ask for sub-steps, none later can, and
+        // the frozen bodies' current speeds are not needed.
+        double smallest = model_.ball.radius, frozenFastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            smallest = std::min(smallest, 0.5 * model_.sides[i]);
+            if (start.frozen[i])
+                frozenFastest = std::max(frozenFastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
+        }
+        const bool frozenMayDecideSubsteps = !(frozenFastest * dt <= kMaxTravelFraction * smallest);
+        frozenSpeed_.assign(n, 0.0);
+        options.frozenBallSpeed = 0.0;
         steppingRobots_.resize(n);
         for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
         std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
@@ -452,7 +465,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
                 nextTry = done + wait;
                 wait = std::min(2 * wait, kLongestRetryWait);
             }
-            if (skip) {
+            if (skip && frozenMayDecideSubsteps) {
                 const double elapsed = static_cast<double>(done) * dt;  // s into the stretch
                 frozenSpeeds(start, elapsed);
                 options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * elapsed);
