@@ -3,8 +3,9 @@
 // WorldModel is the constant part (built once from a Scene), WorldState the
 // mutable part; stepWorld() advances a state by one step of simulated time.
 // Simulation adds the scene's voltage-command schedule on top. Nothing here
-// reads a clock or keeps global state: the same scene and commands always
-// give bit-identical states.
+// reads a clock or keeps global state: the same scene, commands and calls
+// always give bit-identical states (advanceTo cut differently agrees with
+// step() to rounding).
 #pragma once
 
 #include <cstdint>
