@@ -1,6 +1,7 @@
 #include "run_command.h"
 
 #include <QCommandLineParser>
+#include <QCoreApplication>
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
@@ -183,7 +184,7 @@ public:
     void done() {
         if (shown_) err() << "\r" << QString(24, ' ') << "\r" << Qt::flush;
     }
-    qint64 elapsedMs() const { return clock_.elapsed(); }
+    double elapsedSeconds() const { return static_cast<double>(clock_.nsecsElapsed()) * 1e-9; }
 
 private:
     std::int64_t total_;
@@ -234,7 +235,11 @@ QString runHelpText() {
         "Built-in scenes: %1\n"
         "A summary (steps, contacts, run time, real-time factor) goes to standard error, and a\n"
         "warning when dt is beyond Euler's or RK4's stability limit for a robot of the scene.\n"
-        "Exit status: 0 success, 2 bad option or scene, 1 failed to write the output.\n")
+        "Samples fall on the first step boundary at or after each multiple of --sample, and the\n"
+        "run ends on the first step boundary at or after --duration; its final state is always\n"
+        "written.\n"
+        "Exit status: 0 success, 2 bad option or scene or an output file that cannot be created,\n"
+        "1 failed while writing the output.\n")
         .arg(builtinSceneNames().join(", "));
 }
 
@@ -286,18 +291,24 @@ int runCommand(const QStringList& arguments) {
     csv.writeSample(simulation);
     std::int64_t sampleIndex = 1;
     std::int64_t nextSampleStep = Simulation::stepIndexAtOrAfter(sample, dt);
-    std::int64_t contacts = 0;
+    std::int64_t contacts = 0, stepCalls = 0, longSteps = 0;
+    std::int64_t lastWritten = 0;  // step of the last sample written
     ProgressReporter progress(lastStep);
     while (simulation.state().step < lastStep) {
-        contacts += simulation.advanceTo(std::min(lastStep, nextSampleStep)).contacts;
+        const AdvanceReport r = simulation.advanceTo(std::min(lastStep, nextSampleStep));
+        contacts += r.contacts;
+        stepCalls += r.stepCalls;
+        longSteps += r.longSteps;
         if (simulation.state().step >= nextSampleStep) {
             csv.writeSample(simulation);
+            lastWritten = simulation.state().step;
             ++sampleIndex;
             nextSampleStep = std::max(simulation.state().step + 1,
                                       Simulation::stepIndexAtOrAfter(static_cast<double>(sampleIndex) * sample, dt));
         }
         progress.update(simulation.state().step);
     }
+    if (lastWritten != simulation.state().step) csv.writeSample(simulation);  // the final state, always
     progress.done();
     if (!csv.finish() || (saveFile && !saveFile->commit())) {
         err() << "vssim run: failed to write " << (options->outPath.isEmpty() ? "standard output" : options->outPath)
@@ -305,15 +316,18 @@ int runCommand(const QStringList& arguments) {
         if (saveFile) saveFile->cancelWriting();
         return 1;
     }
-    const double seconds = std::max(1e-3, progress.elapsedMs() / 1000.0);
-    err() << QStringLiteral("vssim run: %1 s simulated in %2 steps of %3 s (%4), %5 contacts, %6 s of run time (%7x real time)\n")
+    const double seconds = progress.elapsedSeconds();
+    const QString steps = longSteps > 0 ? QStringLiteral("%1 steps of %2 s and %3 long steps").arg(stepCalls).arg(dt).arg(longSteps)
+                                        : QStringLiteral("%1 steps of %2 s").arg(stepCalls).arg(dt);
+    err() << QStringLiteral("vssim run: %1 s simulated in %2 (%3), %4 contact%5, %6 s of run time including the CSV "
+                            "(%7x real time)\n")
                  .arg(simulation.state().time)
-                 .arg(simulation.state().step)
-                 .arg(dt)
+                 .arg(steps)
                  .arg(integratorName(simulation.model().settings.integrator))
                  .arg(contacts)
-                 .arg(progress.elapsedMs() / 1000.0)
-                 .arg(simulation.state().time / seconds, 0, 'f', 0);
+                 .arg(contacts == 1 ? "" : "s")
+                 .arg(seconds, 0, 'g', 3)
+                 .arg(simulation.state().time / std::max(seconds, 1e-9), 0, 'f', 0);
     return 0;
 }
 
@@ -349,7 +363,8 @@ int demoCommand() {
     out << QStringLiteral("%1 %2 %3 %4 %5\n")
                .arg("ball", -8).arg(s.ball.x, 9, 'f', 4).arg(s.ball.y, 9, 'f', 4)
                .arg(std::atan2(s.ball.vy, s.ball.vx), 12, 'f', 4).arg(std::hypot(s.ball.vx, s.ball.vy), 9, 'f', 4);
-    out << "\nNext: vssim run kickoff_3v3 --duration 10 --out run.csv   (see vssim --help)\n";
+    out << "\nNext: " << QCoreApplication::arguments().value(0, "vssim")
+        << " run kickoff_3v3 --duration 10 --out run.csv   (see --help)\n";
     return 0;
 }
 

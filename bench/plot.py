@@ -3,7 +3,8 @@
 
 Usage: bench/plot.py RESULTS_DIR OUTPUT_DIR
 Reads work_precision.csv and scale.csv from RESULTS_DIR and writes
-work_precision.png and scale.png into OUTPUT_DIR (Debian's python3-matplotlib).
+work_precision.png and scale.png into OUTPUT_DIR, created if needed
+(Debian's python3-matplotlib).
 """
 import csv
 import os
@@ -63,11 +64,20 @@ def scale(rows, out):
 
 
 def main():
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     results, output = sys.argv[1], sys.argv[2]
-    work_precision(read(os.path.join(results, "work_precision.csv")), os.path.join(output, "work_precision.png"))
-    scale(read(os.path.join(results, "scale.csv")), os.path.join(output, "scale.png"))
+    os.makedirs(output, exist_ok=True)
+    try:
+        work_precision(read(os.path.join(results, "work_precision.csv")), os.path.join(output, "work_precision.png"))
+        scale(read(os.path.join(results, "scale.csv")), os.path.join(output, "scale.png"))
+    except OSError as error:
+        sys.exit(f"plot.py: {error.filename}: {error.strerror} (run build/bench/vssim_bench --out {results} first)")
+    except (KeyError, ValueError) as error:
+        sys.exit(f"plot.py: a CSV file in {results} is not what vssim_bench writes ({error})")
 
 
 if __name__ == "__main__":

@@ -46,8 +46,8 @@ int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log)
             Simulation sim(scene);
             totals = {};
             const std::int64_t perFrame = Simulation::stepIndexAtOrAfter(0.03, scene.simulation.dt);
-            for (std::int64_t k = perFrame; k <= end; k += perFrame) {  // advance frame by frame, as a server would
-                const AdvanceReport r = sim.advanceTo(k);
+            for (std::int64_t k = perFrame; k < end + perFrame; k += perFrame) {  // frame by frame, as a server would
+                const AdvanceReport r = sim.advanceTo(std::min(k, end));
                 totals.stepCalls += r.stepCalls;
                 totals.longSteps += r.longSteps;
                 totals.contacts += r.contacts;

@@ -37,6 +37,7 @@ private slots:
     void badInput();
     void badInputLeavesExistingFileAlone();
     void noArgumentsRunsTheDemo();
+    void finalStateAlwaysWritten();
     void warnsWhenTheStepIsUnstable();
 };
 
@@ -72,6 +73,21 @@ void TestCli::csvHasHeaderAndOneRowPerBodyPerSample() {
     QCOMPARE(lines.last().count(','), 12);  // ball rows keep every column, robot-only ones empty
     QVERIFY(lines.last().endsWith(",,,,,,,"));
     QVERIFY(r.err.contains("100 steps"));   // the summary goes to standard error
+}
+
+void TestCli::finalStateAlwaysWritten() {
+    // 0.105 s with samples every 0.01 s: rows at 0, 0.01, ..., 0.1 and the
+    // final state at step 105, which is not a multiple of the sample.
+    const Result r = runVssim({"run", "kickoff_3v3", "--duration", "0.105", "--sample", "0.01"});
+    QCOMPARE(r.exitCode, 0);
+    const QList<QByteArray> lines = r.out.trimmed().split('\n');
+    QCOMPARE(lines.size(), 1 + 12 * 7);
+    QCOMPARE(lines.last().split(',').first().toDouble(), 105 * 0.001);
+    QCOMPARE(lines[lines.size() - 8].split(',').first().toDouble(), 100 * 0.001);
+    // With the exact integrator the summary counts its long steps.
+    const Result exact = runVssim({"run", "kickoff_3v3", "--duration", "1", "--sample", "0.5", "--integrator", "exact"});
+    QCOMPARE(exact.exitCode, 0);
+    QVERIFY2(exact.err.contains(" long steps (exact)"), exact.err.constData());
 }
 
 void TestCli::csvRoundTripsTheEngineState() {
