@@ -405,11 +405,12 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         // Some bodies are free for the whole stretch: they stay where they are
         // while the others take steps of dt (no contact with them is possible
         // on the way), then they take the whole stretch in one step. Should a
-        // contact among the others leave one of them able to reach a free body
-        // after all, the free ones catch up to the present and the rest of the
-        // stretch is planned again. Without long steps the free bodies are
-        // integrated with the others, step by step, and the plan is the same:
-        // free bodies never decide the sub-steps (stepWorld), so the two agree.
+        // contact among the others bring one of them near a free body after
+        // all, that step is undone, the free ones catch up to the present, and
+        // the step is taken again with everybody. The sub-steps count the free
+        // bodies at their true current speeds, so every step is the one
+        // step() would take. Without long steps the free bodies are
+        // integrated with the others, step by step, under the same plan.
         FrozenStart& start = frozenStart_;
         start.frozen.assign(free_.robots.begin(), free_.robots.end());
         start.frozen.push_back(free_.ball);

@@ -123,9 +123,10 @@ public:
     // travel bounds (findFreeBodies) tell which bodies cannot touch anything
     // before the stretch ends: those take it in one step while the others
     // take steps of dt; when every body is free, the whole world takes one
-    // step. Long steps end on multiples of dt, so the
-    // contacts happen at the same steps as with fixed steps, and the states
-    // agree with fixed steps to rounding.
+    // step. A step whose contacts bring a body near a free one is undone and
+    // taken again with everybody. Long steps end on multiples of dt, so the
+    // contacts happen at the same steps as with step(), and the states agree
+    // with step() to rounding, however the calls are cut.
     AdvanceReport advanceTo(std::int64_t target);
 
     // How many whole steps of dt (at most `wanted`) the bodies can move with
