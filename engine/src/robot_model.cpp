@@ -27,11 +27,6 @@ void computeModes(RobotModel& m) {
         m.modeProjector[0] = I;
         m.modeProjector[1] = Eigen::Matrix2d::Zero();
     }
-    // From rest, under the voltages within +-e_max that turn fastest.
-    const double e = m.params.max_voltage;
-    m.maxYawRate = 0.0;
-    for (const Voltages& corner : {Voltages{e, -e}, Voltages{-e, e}, Voltages{e, e}, Voltages{e, 0.0}, Voltages{0.0, e}})
-        m.maxYawRate = std::max(m.maxYawRate, velocityBound(m, RobotState{}, corner)(1));
 }
 
 }  // namespace

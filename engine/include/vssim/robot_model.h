@@ -30,7 +30,6 @@ struct RobotModel {
     std::array<double, 2> modeRate{};              // lambda_k, 1/s (<= 0), slowest first
     std::array<Eigen::Matrix2d, 2> modeProjector;  // P_k, P_1 + P_2 = I
     double fastestRate = 0.0;                      // max |lambda_k|, 1/s
-    double maxYawRate = 0.0;  // |w| bound under any voltages within +-max_voltage, from rest, rad/s
 };
 
 RobotModel makeRobotModel(const RobotParams& params);
