@@ -17,7 +17,9 @@ case "$mode" in
     *) echo "setup.sh: unknown mode '$mode' (expected 'run' or 'test')" >&2; exit 2 ;;
 esac
 
-packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev)
+packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev
+          libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
+          python3 python3-numpy python3-opencv)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -3,6 +3,7 @@
 #include <QTextStream>
 
 #include "run_command.h"
+#include "serve_command.h"
 #include "stress_command.h"
 
 namespace {
@@ -14,6 +15,8 @@ QString mainHelp() {
         "Usage:\n"
         "  vssim                 run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
         "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
+        "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
+        "                        (vssim serve --help; protocol: docs/protocol.md)\n"
         "  vssim stress ...      numerical-stability stress test on random scenes (vssim stress --help)\n"
         "  vssim --help          this help\n"
         "  vssim --version       the version\n"
@@ -32,6 +35,7 @@ int main(int argc, char** argv) {
     if (args.size() < 2) return vssim::demoCommand();
     const QString command = args[1];
     if (command == "run") return vssim::runCommand(args.mid(1));
+    if (command == "serve") return vssim::serveCommand(args.mid(1));
     if (command == "stress") return vssim::stressCommand(args.mid(1));
     if (command == "-h" || command == "--help" || command == "help") {
         QTextStream(stdout) << mainHelp();

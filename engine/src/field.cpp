@@ -1,5 +1,7 @@
 #include "vssim/field.h"
 
+#include <cmath>
+
 namespace vssim {
 
 Field makeRectangularField(double length, double width) {
@@ -16,6 +18,20 @@ Field makeRectangularField(double length, double width) {
         {V(-hx, hy), V(-hx, -hy), V(1.0, 0.0)},   // left
     };
     return field;
+}
+
+static bool centreWithin(const Field& field, double halfX, double halfY, double x, double y) {
+    return std::abs(x) <= 0.5 * field.length - halfX && std::abs(y) <= 0.5 * field.width - halfY;
+}
+
+bool robotInsideField(const Field& field, double side, double x, double y, double theta) {
+    // A square at heading theta reaches (s/2)(|cos| + |sin|) along x and y.
+    const double reach = 0.5 * side * (std::abs(std::cos(theta)) + std::abs(std::sin(theta)));
+    return centreWithin(field, reach, reach, x, y);
+}
+
+bool discInsideField(const Field& field, double r, double x, double y) {
+    return centreWithin(field, r, r, x, y);
 }
 
 }  // namespace vssim

@@ -176,6 +176,14 @@ void Simulation::setVoltages(int robot, const Voltages& e) {
     state_.voltages[robot] = clampVoltages(model_.robots[robot].params, e);
 }
 
+void Simulation::placeRobot(int robot, const RobotState& pose) {
+    state_.robots[robot] = pose;
+}
+
+void Simulation::placeBall(const BallState& ball) {
+    state_.ball = ball;
+}
+
 void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {
         const ScheduledCommand& c = schedule_[nextCommand_++];

@@ -28,4 +28,10 @@ struct Field {
 // with four walls whose normals point inwards.
 Field makeRectangularField(double length, double width);
 
+// Whether a square robot of side `side` (m) centred at (x, y) with heading
+// theta (rad), or a disc of radius r, lies inside the field's
+// length x width rectangle (touching a wall counts as inside). False for NaN.
+bool robotInsideField(const Field& field, double side, double x, double y, double theta);
+bool discInsideField(const Field& field, double r, double x, double y);
+
 }  // namespace vssim

@@ -135,6 +135,12 @@ public:
 
     // Sets a robot's voltages now (clamped to its +-max_voltage; NaN -> 0 V).
     void setVoltages(int robot, const Voltages& e);
+    // Moves a body now (a person dragging it, a client placing it). The
+    // caller checks that it lies inside the field (robotInsideField,
+    // discInsideField); overlaps with other bodies are resolved by the next
+    // step's contacts.
+    void placeRobot(int robot, const RobotState& pose);
+    void placeBall(const BallState& ball);
 
     // The step index at which a command at time t (s) takes effect: the first
     // step boundary at or after t, compared with a tolerance of 1e-9 steps so

@@ -1,0 +1,24 @@
+// The sizes of what the synthetic camera draws (the colours are in
+// camera_colours.h). Part of the image protocol, like the colours.
+#pragma once
+
+namespace vssim {
+
+constexpr int kWallThicknessPx = 3;        // wall lines, centred on each Wall segment, px
+constexpr int kMarkingThicknessPx = 1;     // centre line and centre circle, px
+constexpr double kCentreCircleRadius = 0.20;  // m
+
+// A robot seen from above: a black square of side s, rotated by theta, with
+// two rectangular patches. In the robot frame (x forward along the heading,
+// y to the left), in units of s:
+//   team patch (rear)      x in [-0.45, -0.05], y in [-0.40, 0.40]
+//   identity patch (front) x in [ 0.05,  0.45], y in [-0.40, 0.40]
+// Their centroids are (-0.25 s, 0) and (0.25 s, 0): the robot's centre is
+// their midpoint and its heading the direction from team to identity patch.
+struct PatchRectangle {
+    double xMin, xMax, yMin, yMax;  // robot frame, units of the robot's side
+};
+constexpr PatchRectangle kTeamPatch{-0.45, -0.05, -0.40, 0.40};
+constexpr PatchRectangle kIdentityPatch{0.05, 0.45, -0.40, 0.40};
+
+}  // namespace vssim

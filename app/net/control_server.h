@@ -1,0 +1,77 @@
+// The TCP side of docs/protocol.md: accepts clients, checks what they send,
+// posts requests to the engine thread stamped with their arrival time, and
+// writes the engine's frames, states and replies back. Lives in the thread
+// that owns it (the main thread); never blocks on a client: a client that
+// does not read loses old frames (the newest is kept), and one that lets more
+// than maxUnsentBytes pile up is disconnected.
+#pragma once
+
+#include <QHostAddress>
+#include <QObject>
+#include <QTcpServer>
+#include <functional>
+#include <map>
+#include <memory>
+
+#include "camera_renderer.h"
+#include "client_requests.h"
+#include "engine_thread.h"
+#include "protocol.h"
+
+class QTcpSocket;
+class QTimer;
+
+namespace vssim {
+
+struct ServerSettings {
+    QHostAddress address = QHostAddress::LocalHost;
+    quint16 port = protocol::kDefaultPort;  // 0: any free port
+    int helloTimeoutMs = 5000;              // a client must say HELLO within this
+    qint64 frameBacklogBytes = 1 << 20;     // unsent bytes above which new frames wait (newest kept)
+    qint64 maxUnsentBytes = 64 << 20;       // unsent bytes above which a client is disconnected
+    int maxClients = 64;
+};
+
+class ControlServer : public QObject {
+    Q_OBJECT
+public:
+    ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent = nullptr);
+    ~ControlServer() override;
+
+    bool listen(QString* error);
+    quint16 port() const { return server_.serverPort(); }
+    QHostAddress address() const { return server_.serverAddress(); }
+    int clientCount() const { return static_cast<int>(clients_.size()); }
+
+signals:
+    // One line for the log: connections, greetings, errors, disconnections.
+    void logLine(const QString& line);
+
+private:
+    struct Client;
+
+    void accept();
+    void readFrom(Client& client);
+    void handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs);
+    void greet(Client& client, const QJsonObject& json);
+    void sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id = QJsonValue());
+    void send(Client& client, const QByteArray& bytes);
+    void sendNewest(Client& client, QByteArray frame, QByteArray state);
+    void flushPending(Client& client);
+    void drop(Client& client, const QString& why);
+    void forget(int id);
+    void drainEngine();
+    void updateSubscriptions();
+    QJsonObject welcome(const Client& client) const;
+    void log(const Client& client, const QString& text);
+
+    const Scene scene_;
+    EngineThread& engine_;
+    ServerSettings settings_;
+    CameraRenderer background_;  // for the background images sent on HELLO
+    QTcpServer server_;
+    std::map<int, std::unique_ptr<Client>> clients_;
+    int nextId_ = 1;
+};
+
+}  // namespace vssim

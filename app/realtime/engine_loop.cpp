@@ -1,0 +1,185 @@
+#include "engine_loop.h"
+
+#include <QJsonArray>
+#include <algorithm>
+#include <cmath>
+
+namespace vssim {
+
+const char* runModeName(RunMode mode) {
+    switch (mode) {
+        case RunMode::Realtime: return "realtime";
+        case RunMode::Max: return "max";
+        case RunMode::Lockstep: return "lockstep";
+    }
+    return "?";
+}
+
+EngineLoop::EngineLoop(const Scene& scene, const EngineLoopSettings& settings, EngineSink& sink)
+    : scene_(scene),
+      settings_(settings),
+      sink_(sink),
+      sim_(std::make_unique<Simulation>(scene)),
+      mode_(settings.mode),
+      speed_(settings.speed) {
+    frameSteps_ = std::max<std::int64_t>(1, std::llround(settings.framePeriod / scene.simulation.dt));
+    nextFrameStep_ = frameSteps_;
+}
+
+void EngineLoop::start(std::int64_t nowNs) {
+    reanchor(nowNs);
+    emitInstant(nowNs);
+}
+
+void EngineLoop::reanchor(std::int64_t nowNs) {
+    anchorNs_ = nowNs;
+    anchorStep_ = sim_->state().step;
+}
+
+double EngineLoop::simTimeAt(std::int64_t nowNs) const {
+    return (anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / sim_->dt()) * sim_->dt();
+}
+
+std::int64_t EngineLoop::stepAt(std::int64_t nowNs) const {
+    // In steps, so that the anchor's own rounding does not accumulate.
+    const double steps = anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / sim_->dt();
+    return Simulation::stepIndexAtOrAfter(steps, 1.0);
+}
+
+std::int64_t EngineLoop::nextWakeNs() const {
+    if (paused_ || mode_ == RunMode::Lockstep) return std::numeric_limits<std::int64_t>::max();
+    if (mode_ == RunMode::Max) return 0;
+    const double wallS = static_cast<double>(nextFrameStep_ - anchorStep_) * sim_->dt() / speed_;
+    return anchorNs_ + static_cast<std::int64_t>(std::ceil(wallS * 1e9));
+}
+
+void EngineLoop::emitInstant(std::int64_t nowNs) {
+    sink_.cameraInstant(*sim_, frame_, nowNs);
+}
+
+void EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
+    while (nextFrameStep_ <= target) {
+        sim_->advanceTo(nextFrameStep_);
+        ++frame_;
+        nextFrameStep_ += frameSteps_;
+        emitInstant(nowNs);
+    }
+    sim_->advanceTo(target);
+}
+
+void EngineLoop::runUntil(std::int64_t nowNs) {
+    if (paused_ || mode_ == RunMode::Lockstep) return;
+    if (mode_ == RunMode::Max) {
+        advanceTo(nextFrameStep_, nowNs);
+        return;
+    }
+    std::int64_t target = stepAt(nowNs);
+    // Fallen further behind than maxLag (a slow machine, a huge speed
+    // factor): simulate up to maxLag behind and drop the rest of the lag
+    // rather than never catching up.
+    const std::int64_t maxSteps = std::llround(settings_.maxLag * speed_ / sim_->dt());
+    if (target - sim_->state().step > std::max<std::int64_t>(maxSteps, frameSteps_)) {
+        ++stats_.lagResets;
+        target = sim_->state().step + std::max<std::int64_t>(maxSteps, frameSteps_);
+        advanceTo(target, nowNs);
+        reanchor(nowNs);
+        return;
+    }
+    advanceTo(target, nowNs);
+}
+
+void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
+    using Kind = EngineRequest::Kind;
+    // In realtime mode every request acts at the instant it arrived.
+    std::int64_t arrivalStep = sim_->state().step;
+    if (running()) {
+        arrivalStep = stepAt(r.arrivalNs);
+        if (arrivalStep < sim_->state().step) {
+            if (r.kind == Kind::Voltages) ++stats_.lateCommands;
+        } else {
+            advanceTo(arrivalStep, nowNs);
+        }
+    }
+    switch (r.kind) {
+        case Kind::Voltages: {
+            for (const auto& [robot, e] : r.voltages) sim_->setVoltages(robot, e);
+            stats_.commandLatencyMs.add(1e-6 * static_cast<double>(nowNs - r.arrivalNs));
+            if (running()) {
+                const double arrivalTime = simTimeAt(r.arrivalNs);
+                stats_.commandDelayMs.add(1e3 * std::max(0.0, sim_->state().time - arrivalTime));
+            } else {
+                stats_.commandDelayMs.add(0.0);
+            }
+            return;  // voltages get no reply (errors are the server's)
+        }
+        case Kind::Pause:
+            paused_ = true;
+            break;
+        case Kind::Resume:
+            if (paused_) {
+                paused_ = false;
+                reanchor(nowNs);
+            }
+            break;
+        case Kind::Step: {
+            if (!paused_ && mode_ != RunMode::Lockstep)
+                return replyTo(r, nowNs, "not_paused", "step works only while paused or in lockstep mode");
+            const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, sim_->dt());
+            sim_->advanceTo(sim_->state().step + steps);
+            ++frame_;
+            nextFrameStep_ = sim_->state().step + frameSteps_;
+            emitInstant(nowNs);
+            break;
+        }
+        case Kind::Reset:
+            sim_ = std::make_unique<Simulation>(scene_);
+            frame_ = 0;
+            nextFrameStep_ = frameSteps_;
+            reanchor(nowNs);
+            emitInstant(nowNs);
+            break;
+        case Kind::PlaceRobot:
+            sim_->placeRobot(r.robot, r.robotPose);
+            break;
+        case Kind::PlaceBall:
+            sim_->placeBall(r.ball);
+            break;
+        case Kind::Speed:
+            if (mode_ == RunMode::Lockstep)
+                return replyTo(r, nowNs, "lockstep", "the speed cannot change in lockstep mode");
+            mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;
+            if (r.speed > 0) speed_ = r.speed;
+            reanchor(nowNs);
+            break;
+        case Kind::Stats:
+            return replyTo(r, nowNs, {}, {}, statsJson());
+    }
+    replyTo(r, nowNs);
+}
+
+QJsonObject EngineLoop::statsJson() const {
+    return QJsonObject{
+        {"command_latency_ms", toJson(stats_.commandLatencyMs.summary())},
+        {"command_delay_ms", toJson(stats_.commandDelayMs.summary())},
+        {"late_commands", static_cast<double>(stats_.lateCommands)},
+        {"lag_resets", static_cast<double>(stats_.lagResets)},
+    };
+}
+
+void EngineLoop::replyTo(const EngineRequest& r, std::int64_t /*nowNs*/, const QString& error, const QString& message,
+                         const QJsonObject& extra) {
+    if (r.client < 0) return;
+    EngineReply reply;
+    reply.client = r.client;
+    reply.id = r.id;
+    reply.command = r.command;
+    reply.ok = error.isEmpty();
+    reply.error = error;
+    reply.message = message;
+    reply.time = sim_->state().time;
+    reply.frame = frame_;
+    reply.extra = extra;
+    sink_.reply(reply);
+}
+
+}  // namespace vssim

@@ -1,0 +1,47 @@
+// What the server (or the desktop app) asks of the engine thread, and what
+// the engine answers. Requests are validated against the scene before they
+// are posted (robot indices, teams, finite numbers, inside the field); the
+// engine checks only what depends on its own state (e.g. `step` needs a
+// paused or lockstep engine).
+#pragma once
+
+#include <QJsonObject>
+#include <QJsonValue>
+#include <QString>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "vssim/ball.h"
+#include "vssim/robot_state.h"
+
+namespace vssim {
+
+struct EngineRequest {
+    enum class Kind { Voltages, Pause, Resume, Step, Reset, PlaceRobot, PlaceBall, Speed, Stats };
+    Kind kind = Kind::Voltages;
+    std::int64_t arrivalNs = 0;  // monotonicNs() when the message arrived
+    int client = -1;             // the server's client number; -1: no reply wanted
+    QJsonValue id;               // the client's request id, echoed in the reply
+    QString command;             // the CONTROL command's name, echoed
+    std::vector<std::pair<int, Voltages>> voltages;  // Voltages: (robot index, V)
+    double duration = 0.0;       // Step: simulated seconds (> 0)
+    double speed = 1.0;          // Speed: real-time factor (> 0); 0 means as fast as possible
+    int robot = -1;              // PlaceRobot: robot index
+    RobotState robotPose;        // PlaceRobot: m, rad, m/s, rad/s
+    BallState ball;              // PlaceBall: m, m/s
+};
+
+struct EngineReply {
+    int client = -1;
+    QJsonValue id;
+    QString command;
+    bool ok = true;
+    QString error;    // error code when !ok (protocol.md, ERROR)
+    QString message;  // human-readable, when !ok
+    double time = 0.0;          // simulated time after the request, s
+    std::int64_t frame = 0;     // camera instant number after the request
+    QJsonObject extra;          // e.g. the `stats` reply's measurements
+};
+
+}  // namespace vssim

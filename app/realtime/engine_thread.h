@@ -1,0 +1,86 @@
+// The engine's worker thread: runs an EngineLoop (model.md §8) against the
+// monotonic clock, renders and encodes camera images for the subscribers,
+// and publishes snapshots. Other threads talk to it through post() (requests
+// stamped on arrival), takeOutbox() (frames and replies, in order; a frame
+// not yet taken is replaced by a newer one) and snapshots().
+#pragma once
+
+#include <QThread>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "camera_renderer.h"
+#include "engine_loop.h"
+#include "frame_packet.h"
+#include "snapshot.h"
+
+namespace vssim {
+
+struct OutboxItem {
+    std::shared_ptr<const FramePacket> frame;  // a camera instant, or
+    std::optional<EngineReply> reply;          // a reply to a request
+};
+
+class EngineThread : public QThread, private EngineSink {
+    Q_OBJECT
+public:
+    EngineThread(const Scene& scene, const EngineLoopSettings& settings, QObject* parent = nullptr);
+    ~EngineThread() override;
+
+    // Queues a request (any thread). False when the queue is full (a flood):
+    // the caller answers `busy`.
+    bool post(EngineRequest request);
+    // What the camera instants must produce (any thread; takes effect at the next instant).
+    void setSubscriptions(const std::vector<ImageSubscription>& images, bool state);
+    std::vector<OutboxItem> takeOutbox();
+    const SnapshotBuffer& snapshots() const { return snapshots_; }
+    // Ends the loop; returns at once (wait() joins).
+    void requestStop();
+
+    static constexpr std::size_t kMaxQueuedRequests = 10000;
+
+signals:
+    // The outbox went from empty to not empty (emitted from the engine thread).
+    void outboxReady();
+
+protected:
+    void run() override;
+
+private:
+    void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) override;
+    void reply(const EngineReply& reply) override;
+    void push(OutboxItem item, bool replaceFrame);
+    QJsonObject cameraStats() const;
+
+    const Scene scene_;
+    const EngineLoopSettings settings_;
+    CameraRenderer renderer_;
+    SnapshotBuffer snapshots_;
+
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::vector<EngineRequest> inbox_;
+    bool stop_ = false;
+    std::vector<ImageSubscription> images_;
+    bool stateWanted_ = false;
+
+    std::mutex outboxMutex_;
+    std::vector<OutboxItem> outbox_;
+
+    // Engine-thread only.
+    cv::Mat frameImage_;
+    std::vector<cv::Rect> patchRects_;
+    std::int64_t lastInstantNs_ = -1;
+    SampleStats framePeriodMs_, renderMs_;
+    std::map<QString, SampleStats> encodeMs_, frameBytes_;  // per subscription ("patches/png", ...)
+    std::int64_t framesSkipped_ = 0;
+    const EngineLoop* loop_ = nullptr;  // while run() runs
+};
+
+QString subscriptionName(const ImageSubscription& s);
+
+}  // namespace vssim

@@ -1,0 +1,189 @@
+#include "serve_command.h"
+
+#include <QCommandLineParser>
+#include <QCoreApplication>
+#include <QDateTime>
+#include <QHostAddress>
+#include <QTextStream>
+#include <QTimer>
+#include <atomic>
+#include <cmath>
+#include <csignal>
+
+#include "control_server.h"
+#include "engine_thread.h"
+#include "run_command.h"
+#include "scene_io.h"
+
+namespace vssim {
+
+namespace {
+
+std::atomic<int> stopSignal{0};
+
+extern "C" void onStopSignal(int signal) { stopSignal.store(signal); }
+
+QTextStream& err() {
+    static QTextStream stream(stderr);
+    return stream;
+}
+
+}  // namespace
+
+QString serveHelpText() {
+    return QStringLiteral(
+        "Usage: vssim serve SCENE [options]\n"
+        "\n"
+        "Runs SCENE (a scene file or a built-in scene name) headless and serves it over TCP:\n"
+        "clients send motor voltages and receive camera images every 30 ms of simulated\n"
+        "time and, if they ask, the ground truth (protocol: docs/protocol.md).\n"
+        "\n"
+        "Options:\n"
+        "  --port N             TCP port (default %1; 0: any free port)\n"
+        "  --listen ADDR        address to listen on (default 127.0.0.1; 0.0.0.0: every interface,\n"
+        "                       with no authentication: only on a network you trust)\n"
+        "  --speed X|max        simulated seconds per wall second (default 1), or as fast as possible\n"
+        "  --lockstep           time advances only when a client sends CONTROL step\n"
+        "  --paused             start paused (CONTROL resume or step)\n"
+        "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
+        "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
+        "  -h, --help           this help\n"
+        "\n"
+        "On start it prints \"listening on ADDR:PORT\" on standard output; the log (connections,\n"
+        "errors, disconnections) goes to standard error. Stop it with Ctrl-C.\n"
+        "Exit status: 0 stopped, 1 cannot listen, 2 bad usage or scene.\n")
+        .arg(protocol::kDefaultPort);
+}
+
+int serveCommand(const QStringList& arguments) {
+    QCommandLineParser parser;
+    parser.setSingleDashWordOptionMode(QCommandLineParser::ParseAsLongOptions);
+    const QCommandLineOption help({"h", "help"}, "help");
+    const QCommandLineOption port("port", "port", "N");
+    const QCommandLineOption listen("listen", "address", "ADDR");
+    const QCommandLineOption speed("speed", "speed", "X");
+    const QCommandLineOption lockstep("lockstep", "lockstep");
+    const QCommandLineOption paused("paused", "paused");
+    const QCommandLineOption helloTimeout("hello-timeout", "s", "S");
+    const QCommandLineOption quitAfter("quit-after", "s", "S");
+    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter});
+    auto usage = [](const QString& message) {
+        err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
+        err().flush();
+        return 2;
+    };
+    if (!parser.parse(arguments)) return usage(parser.errorText());
+    if (parser.isSet(help)) {
+        QTextStream(stdout) << serveHelpText();
+        return 0;
+    }
+    if (parser.positionalArguments().size() != 1)
+        return usage(parser.positionalArguments().isEmpty() ? QStringLiteral("a scene is required")
+                                                            : QStringLiteral("one scene only, got %1").arg(parser.positionalArguments().join(' ')));
+
+    ServerSettings server;
+    EngineLoopSettings loop;
+    if (parser.isSet(port)) {
+        bool ok = false;
+        const uint value = parser.value(port).toUInt(&ok);
+        if (!ok || value > 65535) return usage(QStringLiteral("--port: expected 0 to 65535, got \"%1\"").arg(parser.value(port)));
+        server.port = static_cast<quint16>(value);
+    }
+    if (parser.isSet(listen)) {
+        if (!server.address.setAddress(parser.value(listen)))
+            return usage(QStringLiteral("--listen: \"%1\" is not an IPv4 or IPv6 address").arg(parser.value(listen)));
+    }
+    auto seconds = [&](const QCommandLineOption& option, const QString& name, double* out) {
+        bool ok = false;
+        const double value = parser.value(option).toDouble(&ok);
+        if (!ok || !std::isfinite(value) || value <= 0 || value > 1e6) {
+            usage(QStringLiteral("--%1: expected a number of seconds > 0, got \"%2\"").arg(name, parser.value(option)));
+            return false;
+        }
+        *out = value;
+        return true;
+    };
+    if (parser.isSet(speed)) {
+        const QString text = parser.value(speed);
+        bool ok = false;
+        const double value = text.toDouble(&ok);
+        if (text == "max") {
+            loop.mode = RunMode::Max;
+        } else if (ok && std::isfinite(value) && value > 0 && value <= 1e6) {
+            loop.speed = value;
+        } else {
+            return usage(QStringLiteral("--speed: expected a factor > 0 (1 = real time) or \"max\", got \"%1\"").arg(text));
+        }
+    }
+    if (parser.isSet(lockstep)) {
+        if (parser.isSet(speed)) return usage("--lockstep and --speed exclude each other");
+        loop.mode = RunMode::Lockstep;
+    }
+    double helloSeconds = 5.0;
+    if (parser.isSet(helloTimeout) && !seconds(helloTimeout, "hello-timeout", &helloSeconds)) return 2;
+    server.helloTimeoutMs = static_cast<int>(std::ceil(helloSeconds * 1000));
+    double quitSeconds = 0.0;
+    if (parser.isSet(quitAfter) && !seconds(quitAfter, "quit-after", &quitSeconds)) return 2;
+
+    const QString sceneArgument = parser.positionalArguments().first();
+    const QString scenePath = resolveScenePath(sceneArgument);
+    if (scenePath.isEmpty())
+        return usage(QStringLiteral("no scene file or built-in scene \"%1\" (built in: %2)")
+                         .arg(sceneArgument, builtinSceneNames().join(", ")));
+    QString error;
+    const std::optional<Scene> scene = loadSceneFile(scenePath, &error);
+    if (!scene) {
+        err() << "vssim serve: " << error << "\n";
+        return 2;
+    }
+    if (scene->robots.size() > 255) {
+        err() << "vssim serve: " << scenePath << ": " << scene->robots.size()
+              << " robots; the protocol addresses at most 255 (robot indices are one byte)\n";
+        return 2;
+    }
+
+    auto log = [](const QString& line) {
+        err() << QDateTime::currentDateTime().toString("HH:mm:ss.zzz") << " " << line << "\n";
+        err().flush();
+    };
+    EngineThread engine(*scene, loop);
+    ControlServer control(*scene, engine, server);
+    QObject::connect(&control, &ControlServer::logLine, log);
+    if (!control.listen(&error)) {
+        err() << "vssim serve: " << error << "\n";
+        return 1;
+    }
+    if (parser.isSet(paused)) {
+        EngineRequest pause;
+        pause.kind = EngineRequest::Kind::Pause;
+        engine.post(pause);
+    }
+    engine.start();
+    QTextStream out(stdout);
+    out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
+    out.flush();
+    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s")
+            .arg(scenePath)
+            .arg(scene->robots.size())
+            .arg(runModeName(loop.mode))
+            .arg(loop.mode == RunMode::Realtime ? QStringLiteral(" x%1").arg(loop.speed) : QString())
+            .arg(scene->simulation.dt));
+
+    std::signal(SIGINT, onStopSignal);
+    std::signal(SIGTERM, onStopSignal);
+    QTimer signalPoll;
+    QObject::connect(&signalPoll, &QTimer::timeout, [] {
+        if (stopSignal.load() != 0) QCoreApplication::quit();
+    });
+    signalPoll.start(100);
+    if (quitSeconds > 0) QTimer::singleShot(static_cast<int>(quitSeconds * 1000), [] { QCoreApplication::quit(); });
+    QCoreApplication::exec();
+    log("stopping");
+    engine.requestStop();
+    engine.wait();
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+    return 0;
+}
+
+}  // namespace vssim

@@ -1,0 +1,463 @@
+#!/usr/bin/python3
+"""A minimal vssim team client: drive one robot to the ball using only the camera.
+
+It shows the whole protocol of docs/protocol.md from a team's side:
+
+  1. connect over TCP and say HELLO as a team (yellow or blue);
+  2. read WELCOME (field, camera mapping, our robots) and the *background* FRAME;
+  3. for every following FRAME: paste its patches onto a copy of the
+     background, find our robot (team patch + identity patch) and the ball by
+     colour, and answer with VOLTAGES from a simple go-to-point controller;
+  4. in lockstep mode (`vssim serve --lockstep`) also advance simulated time
+     ourselves with CONTROL {"command": "step"}.
+
+It stops (0 V, exit 0) once the robot touches the ball (as seen on the
+image), exits 1 if --max-time simulated seconds pass first and 2 on any
+connection or protocol error.
+
+Needs only Python 3, numpy and OpenCV (Debian: python3-numpy python3-opencv):
+
+    /usr/bin/python3 examples/python/vssim_client.py --team yellow --robot 0
+"""
+
+import argparse
+import json
+import math
+import socket
+import struct
+import sys
+
+import cv2
+import numpy as np
+
+# --------------------------------------------------------------------------
+# Protocol constants (docs/protocol.md, "Framing")
+# --------------------------------------------------------------------------
+
+HELLO, VOLTAGES, CONTROL = 0x01, 0x02, 0x03                        # client -> server
+WELCOME, FRAME, STATE, REPLY, ERROR = 0x81, 0x82, 0x83, 0x84, 0x85  # server -> client
+
+FRAME_KIND_PATCHES, FRAME_KIND_FULL, FRAME_KIND_BACKGROUND = 0, 1, 2
+ENCODING_RAW, ENCODING_PNG, ENCODING_JPEG = 0, 1, 2
+
+STEP_DURATION = 0.03     # s of simulated time per CONTROL step in --lockstep mode
+SILENCE_TIMEOUT = 10.0   # s of wall-clock time without any message before giving up
+
+# --------------------------------------------------------------------------
+# Camera colours, (B, G, R) as in OpenCV (docs/protocol.md, "The camera")
+# --------------------------------------------------------------------------
+
+TEAM_COLOURS = {"yellow": (0, 255, 255), "blue": (255, 0, 0)}
+IDENTITY_COLOURS = [          # by the robot's id within its team, then again from red
+    (0, 0, 255),      # 0 red
+    (0, 255, 0),      # 1 green
+    (255, 0, 255),    # 2 magenta
+    (255, 255, 0),    # 3 cyan
+    (255, 255, 255),  # 4 white (also the field markings: see find_blobs)
+    (128, 0, 128),    # 5 purple
+]
+BALL_COLOUR = (0, 128, 255)   # orange; red (0, 0, 255) differs from it only in G
+
+# Any two of the colours above differ by at least 127 in some channel, so
+# +-40 per channel never confuses them, while it still accepts the slightly
+# blended pixels near patch edges and JPEG noise.
+COLOUR_TOLERANCE = 40
+MIN_BLOB_AREA = 10            # px: smaller blobs are edge artefacts or noise
+FOREGROUND_THRESHOLD = 40     # a pixel is "new" if it differs this much from the background
+
+
+class ProtocolError(Exception):
+    """Anything that ends the session with exit status 2."""
+
+
+# --------------------------------------------------------------------------
+# The connection: length-prefixed messages over TCP
+# --------------------------------------------------------------------------
+
+class Connection:
+    """Every message is u32 length (big-endian) + u8 type + payload; length counts type + payload."""
+
+    def __init__(self, host, port):
+        try:
+            self.sock = socket.create_connection((host, port), timeout=SILENCE_TIMEOUT)
+        except OSError as e:
+            raise ProtocolError(f"cannot connect to {host}:{port}: {e}") from e
+        # Small messages (VOLTAGES, CONTROL) must leave at once, not wait for Nagle.
+        self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.next_id = 1
+
+    def send(self, msg_type, payload):
+        try:
+            self.sock.sendall(struct.pack(">IB", len(payload) + 1, msg_type) + payload)
+        except OSError as e:
+            raise ProtocolError(f"connection lost while sending: {e}") from e
+
+    def send_json(self, msg_type, obj):
+        self.send(msg_type, json.dumps(obj).encode("utf-8"))
+
+    def send_voltages(self, robot_index, right, left):
+        # u8 count, then per robot: u8 index, f64 right, f64 left (big-endian).
+        self.send(VOLTAGES, struct.pack(">BBdd", 1, robot_index, right, left))
+
+    def send_control(self, command, **arguments):
+        """Sends CONTROL with a fresh id (echoed in the REPLY or ERROR) and returns the id."""
+        request_id = self.next_id
+        self.next_id += 1
+        self.send_json(CONTROL, {"command": command, "id": request_id, **arguments})
+        return request_id
+
+    def _receive_exactly(self, n):
+        chunks, remaining = [], n
+        while remaining > 0:
+            try:
+                chunk = self.sock.recv(min(remaining, 1 << 20))
+            except socket.timeout as e:
+                raise ProtocolError(
+                    f"no message from the server for {SILENCE_TIMEOUT:.0f} s (is it paused, or in "
+                    "lockstep mode while this client runs without --lockstep?)") from e
+            except OSError as e:
+                raise ProtocolError(f"connection lost: {e}") from e
+            if not chunk:
+                raise ProtocolError("the server closed the connection")
+            chunks.append(chunk)
+            remaining -= len(chunk)
+        return b"".join(chunks)
+
+    def receive(self):
+        """Returns the next message as (type, payload bytes)."""
+        (length,) = struct.unpack(">I", self._receive_exactly(4))
+        if length < 1:
+            raise ProtocolError("malformed message from the server: length 0")
+        body = self._receive_exactly(length)
+        return body[0], body[1:]
+
+    def close(self):
+        self.sock.close()
+
+
+def parse_json(payload, what):
+    try:
+        return json.loads(payload.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError) as e:
+        raise ProtocolError(f"malformed {what} JSON from the server: {e}") from e
+
+
+def describe_error(error):
+    return f"server ERROR {error.get('error')}: {error.get('message')}"
+
+
+# --------------------------------------------------------------------------
+# FRAME: header, patches, decoding
+# --------------------------------------------------------------------------
+
+FRAME_HEADER = struct.Struct(">IdBBH")   # frame, time, kind, encoding, count: 16 bytes
+PATCH_HEADER = struct.Struct(">HHHHI")   # x, y, w, h, bytes: 12 bytes
+
+
+def decode_patch(data, encoding, w, h):
+    """One patch's bytes -> an h x w x 3 BGR image."""
+    if encoding == ENCODING_RAW:          # rows top to bottom, 3 bytes B, G, R per pixel
+        if len(data) != w * h * 3:
+            raise ProtocolError(f"raw patch of {w}x{h} has {len(data)} bytes")
+        return np.frombuffer(data, np.uint8).reshape(h, w, 3)
+    if encoding in (ENCODING_PNG, ENCODING_JPEG):
+        image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+        if image is None or image.shape[:2] != (h, w):
+            raise ProtocolError(f"cannot decode a {w}x{h} patch")
+        return image
+    raise ProtocolError(f"unknown image encoding {encoding}")
+
+
+def parse_frame(payload):
+    """FRAME payload -> (frame, time, kind, [(x, y, image), ...]), skipping empty patches."""
+    if len(payload) < FRAME_HEADER.size:
+        raise ProtocolError("truncated FRAME")
+    frame, time, kind, encoding, count = FRAME_HEADER.unpack_from(payload, 0)
+    offset, patches = FRAME_HEADER.size, []
+    for _ in range(count):
+        if offset + PATCH_HEADER.size > len(payload):
+            raise ProtocolError("truncated FRAME patch header")
+        x, y, w, h, size = PATCH_HEADER.unpack_from(payload, offset)
+        offset += PATCH_HEADER.size
+        data = payload[offset:offset + size]
+        if len(data) != size:
+            raise ProtocolError("truncated FRAME patch data")
+        offset += size
+        if w > 0 and h > 0:               # w = h = 0: that body is outside the image
+            patches.append((x, y, decode_patch(data, encoding, w, h)))
+    return frame, time, kind, patches
+
+
+def paste(image, x, y, patch):
+    h, w = patch.shape[:2]
+    if y + h > image.shape[0] or x + w > image.shape[1]:
+        raise ProtocolError(f"patch {w}x{h} at ({x}, {y}) lies outside the image")
+    image[y:y + h, x:x + w] = patch
+
+
+# --------------------------------------------------------------------------
+# Vision: colour blobs -> robot pose and ball position
+# --------------------------------------------------------------------------
+
+class Camera:
+    """Pixel <-> field mapping from WELCOME's "camera": u = centre_u + scale x, v = centre_v - scale y."""
+
+    def __init__(self, welcome_camera):
+        self.scale = float(welcome_camera["scale"])
+        self.centre_u = float(welcome_camera["centre_u"])
+        self.centre_v = float(welcome_camera["centre_v"])
+
+    def to_field(self, column, row):
+        """Pixel (column, row) indices, possibly fractional (centroids) -> field (x, y) in m.
+        Pixel i covers u in [i, i+1), so its centre is at u = i + 0.5."""
+        u, v = column + 0.5, row + 0.5
+        return (u - self.centre_u) / self.scale, (self.centre_v - v) / self.scale
+
+
+def find_blobs(image, foreground, bgr):
+    """Centroids (column, row) and areas of the blobs of colour bgr, largest first.
+
+    Only pixels that differ from the background count (`foreground`): that keeps
+    the white field markings out of the white identity colour. A 3x3 opening
+    removes one-pixel-wide fringes, e.g. the anti-aliased edge of a magenta
+    patch on the black body, which is purple."""
+    low = np.clip(np.array(bgr) - COLOUR_TOLERANCE, 0, 255).astype(np.uint8)
+    high = np.clip(np.array(bgr) + COLOUR_TOLERANCE, 0, 255).astype(np.uint8)
+    mask = cv2.inRange(image, low, high) & foreground
+    mask = cv2.morphologyEx(mask, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+    count, _, stats, centroids = cv2.connectedComponentsWithStats(mask)
+    blobs = [(centroids[i], stats[i, cv2.CC_STAT_AREA]) for i in range(1, count)
+             if stats[i, cv2.CC_STAT_AREA] >= MIN_BLOB_AREA]
+    return sorted(blobs, key=lambda blob: -blob[1])
+
+
+def foreground_mask(image, background):
+    difference = cv2.absdiff(image, background).max(axis=2)
+    return np.where(difference > FOREGROUND_THRESHOLD, 255, 0).astype(np.uint8)
+
+
+def find_robot(image, foreground, camera, team_bgr, identity_bgr, side):
+    """Our robot's (x, y, theta) in the field frame, or None if not seen.
+
+    Each identity blob is paired with the nearest team-colour blob: on the
+    robot their centroids are 0.5 side apart, so pairs farther than 0.75 side
+    are rejected. (The other team's robot with the same id has the same
+    identity colour, but a team patch of the other colour.)"""
+    side_px = side * camera.scale
+    team_blobs = find_blobs(image, foreground, team_bgr)
+    best = None
+    for identity_centroid, _ in find_blobs(image, foreground, identity_bgr):
+        for team_centroid, _ in team_blobs:
+            distance = float(np.linalg.norm(identity_centroid - team_centroid))
+            if distance <= 0.75 * side_px and (best is None or distance < best[0]):
+                best = (distance, team_centroid, identity_centroid)
+    if best is None:
+        return None
+    _, team_centroid, identity_centroid = best
+    tx, ty = camera.to_field(*team_centroid)
+    ix, iy = camera.to_field(*identity_centroid)
+    # Centre: midpoint of the two patches; heading: from team patch to identity patch.
+    return (tx + ix) / 2, (ty + iy) / 2, math.atan2(iy - ty, ix - tx)
+
+
+def find_ball(image, foreground, camera):
+    blobs = find_blobs(image, foreground, BALL_COLOUR)
+    return camera.to_field(*blobs[0][0]) if blobs else None   # the largest orange blob
+
+
+# --------------------------------------------------------------------------
+# Control: a go-to-point controller for a differential-drive robot
+# --------------------------------------------------------------------------
+
+TURN_GAIN = 1.2        # V of differential voltage per rad of heading error
+DISTANCE_GAIN = 20.0   # V of common voltage per m of distance
+CRUISE_VOLTAGE = 5.0   # V: the common voltage never exceeds this (~1.2 m/s)
+
+
+def wrap_angle(a):
+    """An angle in (-pi, pi]."""
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+class GoToPoint:
+    """Heading error -> differential voltage, distance -> common voltage.
+
+    VSSS robots are symmetric, so when the target is behind the robot it
+    simply drives backwards (heading + pi) instead of turning around. A little
+    hysteresis keeps it from hesitating between the two when the target is
+    nearly sideways."""
+
+    def __init__(self, max_voltage):
+        self.max_voltage = max_voltage
+        self.backwards = False
+
+    def command(self, robot, target):
+        x, y, theta = robot
+        dx, dy = target[0] - x, target[1] - y
+        error = wrap_angle(math.atan2(dy, dx) - theta)        # heading error driving forwards
+        switch_at = math.pi / 2 + (-0.3 if self.backwards else 0.3)
+        self.backwards = abs(error) > switch_at
+        if self.backwards:
+            error = wrap_angle(error - math.pi)               # heading error driving backwards
+        direction = -1.0 if self.backwards else 1.0
+
+        # Slow down while the robot does not face the target (|error| <= ~pi/2 here).
+        common = min(DISTANCE_GAIN * math.hypot(dx, dy), CRUISE_VOLTAGE) * max(math.cos(error), 0.0)
+        differential = TURN_GAIN * error                      # > 0: turn left (counter-clockwise)
+
+        # Stay within +-max_voltage on both wheels, giving priority to turning.
+        differential = max(-self.max_voltage, min(self.max_voltage, differential))
+        common = min(common, self.max_voltage - abs(differential))
+        common *= direction
+        return common + differential, common - differential   # (right, left)
+
+
+# --------------------------------------------------------------------------
+# The session
+# --------------------------------------------------------------------------
+
+def parse_arguments():
+    parser = argparse.ArgumentParser(
+        description="vssim example team client: drives one robot to the ball using only the camera images.")
+    parser.add_argument("--host", default="127.0.0.1", help="server address (default 127.0.0.1)")
+    parser.add_argument("--port", type=int, default=10030, help="server port (default 10030)")
+    parser.add_argument("--team", choices=["yellow", "blue"], default="yellow", help="team (default yellow)")
+    parser.add_argument("--robot", type=int, default=0, metavar="ID",
+                        help="the robot's id within the team, i.e. its identity colour (default 0)")
+    parser.add_argument("--encoding", choices=["png", "raw", "jpeg"], default="png",
+                        help="image encoding (default png)")
+    parser.add_argument("--lockstep", action="store_true",
+                        help="step simulated time ourselves, 0.03 s per decision (for `vssim serve --lockstep`)")
+    parser.add_argument("--max-time", type=float, default=20.0, metavar="S",
+                        help="give up (exit 1) after S simulated seconds (default 20)")
+    parser.add_argument("--verbose", action="store_true", help="print the estimates at every frame")
+    return parser.parse_args()
+
+
+def wait_for_welcome(conn):
+    while True:
+        msg_type, payload = conn.receive()
+        if msg_type == WELCOME:
+            return parse_json(payload, "WELCOME")
+        if msg_type == ERROR:   # e.g. role_taken: the other team's client already drives it
+            raise ProtocolError(describe_error(parse_json(payload, "ERROR")))
+        # Anything else before WELCOME is unexpected but harmless: skip it.
+
+
+def our_robot(welcome, team, robot_id):
+    for robot in welcome["robots"]:
+        if robot["team"] == team and robot["id"] == robot_id:
+            return robot
+    ids = [r["id"] for r in welcome["robots"] if r["team"] == team]
+    raise ProtocolError(f"the scene has no {team} robot with id {robot_id} ({team} ids: {ids})")
+
+
+def run(args):
+    conn = Connection(args.host, args.port)
+    conn.send_json(HELLO, {"protocol": 1, "role": args.team, "name": "vssim example client (Python)",
+                           "images": "patches", "encoding": args.encoding})
+    welcome = wait_for_welcome(conn)
+
+    camera = Camera(welcome["camera"])
+    robot = our_robot(welcome, args.team, args.robot)
+    index, side, max_voltage = robot["index"], float(robot["side"]), float(robot["max_voltage"])
+    ball_radius = float(welcome["ball"]["radius"])
+    team_bgr = TEAM_COLOURS[args.team]
+    identity_bgr = IDENTITY_COLOURS[args.robot % len(IDENTITY_COLOURS)]
+    reach_distance = side / 2 + ball_radius + 0.015
+    controller = GoToPoint(max_voltage)
+    print(f"connected to {welcome.get('server')} ({welcome.get('mode')} mode) as {args.team}: "
+          f"driving {robot['name']} (index {index}) to the ball")
+    if welcome.get("mode") == "lockstep" and not args.lockstep:
+        print("note: the server is in lockstep mode: time only advances when a client steps it "
+              "(use --lockstep to do it from this client)", file=sys.stderr)
+
+    background = None
+    step_id = None        # id of our CONTROL step awaiting its REPLY (lockstep only)
+    last_estimate = "nothing seen yet"
+
+    def stop():
+        conn.send_voltages(index, 0.0, 0.0)
+
+    while True:
+        msg_type, payload = conn.receive()
+
+        if msg_type == ERROR:
+            error = parse_json(payload, "ERROR")
+            if error.get("fatal") or (step_id is not None and error.get("id") == step_id):
+                hint = " (is the server running with --lockstep?)" if error.get("id") == step_id else ""
+                raise ProtocolError(describe_error(error) + hint)
+            print(f"warning: {describe_error(error)}", file=sys.stderr)   # not fatal: carry on
+            continue
+        if msg_type == REPLY:
+            reply = parse_json(payload, "REPLY")
+            if args.lockstep and step_id is not None and reply.get("id") == step_id:
+                # The FRAME of that step came before this REPLY and has been answered
+                # with VOLTAGES already: advance time again.
+                step_id = conn.send_control("step", duration=STEP_DURATION)
+            continue              # a REPLY we did not ask for: nothing to do
+        if msg_type != FRAME:
+            continue              # STATE (we did not ask for it), WELCOME again, unknown types: skip
+
+        frame, time, kind, patches = parse_frame(payload)
+        if kind == FRAME_KIND_BACKGROUND:
+            if len(patches) != 1:
+                raise ProtocolError("background FRAME without exactly one patch")
+            background = patches[0][2].copy()
+            if args.lockstep and step_id is None:
+                step_id = conn.send_control("step", duration=STEP_DURATION)   # get the first image
+            continue
+        if background is None:
+            raise ProtocolError("FRAME before the background FRAME")
+
+        # Rebuild the full camera image: a fresh copy of the background, patches pasted in order.
+        image = background.copy()
+        for x, y, patch in patches:
+            paste(image, x, y, patch)
+
+        foreground = foreground_mask(image, background)
+        pose = find_robot(image, foreground, camera, team_bgr, identity_bgr, side)
+        ball = find_ball(image, foreground, camera)
+
+        if pose is None or ball is None:
+            right = left = 0.0    # lost sight of something: wait for a better image
+            last_estimate = f"robot {'not ' if pose is None else ''}seen, ball {'not ' if ball is None else ''}seen"
+            if args.verbose:
+                print(f"frame {frame} t={time:.3f}: {last_estimate}")
+        else:
+            distance = math.hypot(ball[0] - pose[0], ball[1] - pose[1])
+            last_estimate = (f"robot ({pose[0]:.3f}, {pose[1]:.3f}) ball ({ball[0]:.3f}, {ball[1]:.3f})")
+            if distance <= reach_distance:
+                stop()
+                print(f"reached the ball at t={time:.2f} s (frame {frame}): {last_estimate}")
+                return 0
+            right, left = controller.command(pose, ball)
+            if args.verbose:
+                print(f"frame {frame} t={time:.3f}: robot ({pose[0]:.3f}, {pose[1]:.3f}, "
+                      f"{math.degrees(pose[2]):.0f} deg) ball ({ball[0]:.3f}, {ball[1]:.3f}) "
+                      f"distance {distance:.3f} m -> right {right:+.2f} V left {left:+.2f} V")
+
+        if time >= args.max_time:
+            stop()
+            print(f"did not reach the ball within {args.max_time:g} s of simulated time "
+                  f"(t={time:.2f} s, frame {frame}; last estimate: {last_estimate})", file=sys.stderr)
+            return 1
+        conn.send_voltages(index, right, left)
+
+
+def main():
+    args = parse_arguments()
+    try:
+        return run(args)
+    except ProtocolError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except (KeyError, TypeError, ValueError) as e:   # a WELCOME without the fields we need
+        print(f"error: unexpected WELCOME from the server ({type(e).__name__}: {e})", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
