@@ -15,7 +15,7 @@ namespace vssim {
 namespace {
 
 // How far anti-aliased edges may colour pixels beyond the exact outline, px
-// (OpenCV's anti-aliased edges reach about one pixel; two is safe).
+// (OpenCV's reach about 1.5 px: 1.55 at most over 20000 random poses).
 constexpr int kSpillPx = 2;
 
 // The pixel box that holds the outline through these field points (m) plus
@@ -94,6 +94,7 @@ void CameraRenderer::render(const WorldState& state, cv::Mat& frame, std::vector
     if (state.robots.size() != robots_.size())
         throw std::invalid_argument("CameraRenderer::render: the state has " + std::to_string(state.robots.size()) +
                                     " robots, the scene " + std::to_string(robots_.size()));
+    if (frame.datastart == background_.datastart) frame = cv::Mat();  // never draw into the background itself
     background_.copyTo(frame);
     patches.clear();
     for (std::size_t i = 0; i < robots_.size(); ++i) patches.push_back(drawRobot(robots_[i], state.robots[i], frame));

@@ -26,7 +26,8 @@ std::optional<ImageEncoding> encodingFromName(std::string_view name);
 // type). jpegQuality is clamped to 1..100 and used for Jpeg only.
 std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding, int jpegQuality = 90);
 
-// Decodes n bytes into a height x width CV_8UC3 BGR image. Raw needs exactly
+// Decodes n bytes into a height x width CV_8UC3 BGR image (width and height
+// 1..65536; a grey PNG or JPEG comes out as BGR too). Raw needs exactly
 // width * height * 3 bytes; PNG and JPEG must decode (a JPEG must also end
 // with its end-of-image marker, as libjpeg fills a truncated one with grey)
 // to exactly width x height. On failure returns false, leaves `out` as it

@@ -1,0 +1,281 @@
+// The real-time loop (app/realtime/engine_loop.h) driven by made-up wall
+// times: commands act at their arrival instant, camera instants fall every
+// 30 ms of simulated time, the modes behave as documented, and everything
+// agrees bit for bit with an offline Simulation given the same commands.
+#include <QtTest>
+
+#include "engine_loop.h"
+#include "test_support.h"
+
+using namespace vssim;
+
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;  // ns
+
+Scene twoRobots() {
+    Scene scene;
+    scene.robots.push_back(test::robotAt("yellow0", -0.3, 0.0, 0.0));
+    scene.robots.push_back(test::robotAt("blue0", 0.3, 0.2, 3.0));
+    scene.robots[1].team = Team::Blue;
+    scene.ball.x = 0.1;
+    scene.ball.vx = 0.4;
+    return scene;
+}
+
+struct RecordingSink : EngineSink {
+    struct Instant {
+        std::int64_t frame, step;
+        std::uint64_t hash;
+    };
+    std::vector<Instant> instants;
+    std::vector<EngineReply> replies;
+    void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t) override {
+        instants.push_back({frame, sim.state().step, hashState(sim.state())});
+    }
+    void reply(const EngineReply& r) override { replies.push_back(r); }
+};
+
+EngineRequest voltages(std::int64_t arrivalNs, int robot, double right, double left) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::Voltages;
+    r.arrivalNs = arrivalNs;
+    r.voltages = {{robot, Voltages{right, left}}};
+    return r;
+}
+
+EngineRequest control(EngineRequest::Kind kind, std::int64_t arrivalNs = 0, double duration = 0.0) {
+    EngineRequest r;
+    r.kind = kind;
+    r.arrivalNs = arrivalNs;
+    r.client = 1;
+    r.duration = duration;
+    return r;
+}
+
+// The offline reference: the same scene with the commands in its schedule.
+std::uint64_t offlineHash(Scene scene, const std::vector<VoltageCommand>& commands, std::int64_t steps) {
+    scene.commands = commands;
+    Simulation sim(scene);
+    sim.advanceTo(steps);
+    return hashState(sim.state());
+}
+
+}  // namespace
+
+class TestEngineLoop : public QObject {
+    Q_OBJECT
+private slots:
+    void cameraInstantsEveryFramePeriod() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        const std::int64_t t0 = 5'000 * kMs;  // an arbitrary clock origin
+        loop.start(t0);
+        QCOMPARE(loop.frameSteps(), 30);
+        QCOMPARE(loop.nextWakeNs(), t0 + 30 * kMs);
+        loop.runUntil(t0 + 100 * kMs);
+        QCOMPARE(loop.simulation().state().step, 100);
+        QCOMPARE(sink.instants.size(), std::size_t(4));  // 0, 30, 60, 90 ms
+        for (std::size_t n = 0; n < sink.instants.size(); ++n) {
+            QCOMPARE(sink.instants[n].frame, std::int64_t(n));
+            QCOMPARE(sink.instants[n].step, std::int64_t(30 * n));
+            QCOMPARE(sink.instants[n].hash, offlineHash(twoRobots(), {}, 30 * n));
+        }
+        QCOMPARE(loop.nextWakeNs(), t0 + 120 * kMs);
+    }
+
+    void commandTakesEffectAtItsArrivalInstant() {
+        // A command that arrives 12.3 ms after the start acts from step 13
+        // (the first step boundary at or after it), not at the next image
+        // (step 30), even though the loop only handles it at 25 ms.
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.handle(voltages(12'300'000, 0, 6.0, 4.0), 25 * kMs);
+        QCOMPARE(loop.simulation().state().step, 13);
+        loop.runUntil(60 * kMs);
+        const std::uint64_t want = offlineHash(twoRobots(), {{0.013, 0, {6.0, 4.0}}}, 60);
+        QCOMPARE(hashState(loop.simulation().state()), want);
+        QVERIFY(want != offlineHash(twoRobots(), {{0.030, 0, {6.0, 4.0}}}, 60));
+        QCOMPARE(loop.stats().lateCommands, 0);
+        // Simulated delay: 13 ms - 12.3 ms; wall latency: 25 ms - 12.3 ms.
+        QVERIFY(std::abs(loop.stats().commandDelayMs.summary().median - 0.7) < 1e-6);
+        QVERIFY(std::abs(loop.stats().commandLatencyMs.summary().median - 12.7) < 1e-9);
+    }
+
+    void speedFactorScalesSimulatedTime() {
+        EngineLoopSettings settings;
+        settings.speed = 2.5;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(1000 * kMs);
+        loop.handle(voltages(1000 * kMs + 4 * kMs, 1, -3.0, 2.0), 1000 * kMs + 5 * kMs);  // at 10 ms simulated
+        QCOMPARE(loop.simulation().state().step, 10);
+        QCOMPARE(loop.nextWakeNs(), 1000 * kMs + 12 * kMs);  // 30 ms simulated / 2.5
+        loop.runUntil(1000 * kMs + 40 * kMs);                 // 100 ms simulated
+        QCOMPARE(loop.simulation().state().step, 100);
+        QCOMPARE(hashState(loop.simulation().state()), offlineHash(twoRobots(), {{0.010, 1, {-3.0, 2.0}}}, 100));
+    }
+
+    void lateCommandActsNow() {
+        // The loop already simulated past the arrival instant (it was busy):
+        // the command acts at the current step and is counted as late.
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.runUntil(50 * kMs);
+        loop.handle(voltages(20 * kMs, 0, 5.0, 5.0), 51 * kMs);
+        QCOMPARE(loop.stats().lateCommands, 1);
+        QCOMPARE(loop.simulation().state().step, 50);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 5.0);
+    }
+
+    void pauseHoldsTimeAndStepAdvances() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.handle(control(EngineRequest::Kind::Step, 1 * kMs, 0.05), 2 * kMs);
+        QCOMPARE(sink.replies.back().ok, false);
+        QCOMPARE(sink.replies.back().error, QString("not_paused"));
+        loop.handle(control(EngineRequest::Kind::Pause, 40 * kMs), 41 * kMs);
+        QCOMPARE(loop.simulation().state().step, 40);  // simulated up to the pause's arrival
+        QCOMPARE(loop.nextWakeNs(), std::numeric_limits<std::int64_t>::max());
+        loop.runUntil(900 * kMs);
+        QCOMPARE(loop.simulation().state().step, 40);
+        const std::size_t instants = sink.instants.size();
+        loop.handle(control(EngineRequest::Kind::Step, 950 * kMs, 0.0105), 950 * kMs);  // rounds up to 11 steps
+        QCOMPARE(loop.simulation().state().step, 51);
+        QCOMPARE(sink.instants.size(), instants + 1);
+        QCOMPARE(sink.instants.back().step, 51);
+        QVERIFY(sink.replies.back().ok);
+        QCOMPARE(sink.replies.back().time, loop.simulation().state().time);
+        QCOMPARE(sink.replies.back().frame, sink.instants.back().frame);
+        // Resume: time runs again from the wall time of the resume.
+        loop.handle(control(EngineRequest::Kind::Resume, 1000 * kMs), 1000 * kMs);
+        loop.runUntil(1010 * kMs);
+        QCOMPARE(loop.simulation().state().step, 61);
+        // The next image comes 30 ms of simulated time after the last one.
+        QCOMPARE(loop.nextWakeNs(), 1000 * kMs + 30 * kMs);
+    }
+
+    void lockstepIsDeterministicAndMatchesOffline() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        auto run = [&](RecordingSink& sink) {
+            EngineLoop loop(twoRobots(), settings, sink);
+            loop.start(0);
+            // Wall times are deliberately irregular: lockstep ignores them.
+            loop.handle(voltages(7 * kMs, 0, 7.0, 3.0), 1234 * kMs);
+            loop.handle(control(EngineRequest::Kind::Step, 0, 0.03), 99 * kMs);
+            loop.runUntil(5'000 * kMs);
+            loop.handle(voltages(1, 1, -2.0, 6.0), 17 * kMs);
+            loop.handle(control(EngineRequest::Kind::Step, 0, 0.03), 18 * kMs);
+            loop.handle(control(EngineRequest::Kind::Step, 0, 0.5), 19 * kMs);
+            return hashState(loop.simulation().state());
+        };
+        RecordingSink a, b;
+        const std::uint64_t hashA = run(a), hashB = run(b);
+        QCOMPARE(hashA, hashB);
+        QCOMPARE(a.instants.size(), std::size_t(4));
+        for (std::size_t i = 0; i < a.instants.size(); ++i) QCOMPARE(a.instants[i].hash, b.instants[i].hash);
+        QCOMPARE(a.instants[2].step, 60);
+        QCOMPARE(hashA, offlineHash(twoRobots(), {{0.0, 0, {7.0, 3.0}}, {0.03, 1, {-2.0, 6.0}}}, 560));
+    }
+
+    void maxModeAdvancesOneFramePeriodPerCall() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Max;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(0);
+        QCOMPARE(loop.nextWakeNs(), std::int64_t(0));
+        for (int i = 0; i < 5; ++i) loop.runUntil(0);
+        QCOMPARE(loop.simulation().state().step, 150);
+        QCOMPARE(sink.instants.size(), std::size_t(6));
+        // A command in max mode acts at the current instant.
+        loop.handle(voltages(0, 0, 2.0, 2.0), 0);
+        loop.runUntil(0);
+        QCOMPARE(hashState(loop.simulation().state()), offlineHash(twoRobots(), {{0.15, 0, {2.0, 2.0}}}, 180));
+    }
+
+    void speedChangesAndMaxSwitch() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        EngineRequest faster = control(EngineRequest::Kind::Speed, 30 * kMs);
+        faster.speed = 4.0;
+        loop.handle(faster, 30 * kMs);
+        QCOMPARE(loop.simulation().state().step, 30);
+        loop.runUntil(40 * kMs);
+        QCOMPARE(loop.simulation().state().step, 70);
+        EngineRequest max = control(EngineRequest::Kind::Speed, 40 * kMs);
+        max.speed = 0.0;
+        loop.handle(max, 40 * kMs);
+        QCOMPARE(loop.mode(), RunMode::Max);
+    }
+
+    void resetRestoresTheInitialState() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        const std::uint64_t initial = hashState(loop.simulation().state());
+        loop.handle(voltages(1 * kMs, 0, 5.0, -5.0), 1 * kMs);
+        loop.runUntil(200 * kMs);
+        QVERIFY(hashState(loop.simulation().state()) != initial);
+        loop.handle(control(EngineRequest::Kind::Reset, 200 * kMs), 200 * kMs);
+        QCOMPARE(hashState(loop.simulation().state()), initial);
+        QCOMPARE(loop.frame(), 0);
+        QCOMPARE(sink.instants.back().frame, 0);
+        QCOMPARE(loop.nextWakeNs(), 230 * kMs);
+    }
+
+    void placeMovesBodies() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(0);
+        EngineRequest place = control(EngineRequest::Kind::PlaceRobot);
+        place.robot = 1;
+        place.robotPose = {0.5, -0.4, 1.0, 0.0, 0.0};
+        loop.handle(place, 0);
+        EngineRequest ball = control(EngineRequest::Kind::PlaceBall);
+        ball.ball = {-0.6, 0.5, 0.0, 0.0};
+        loop.handle(ball, 0);
+        const WorldState& s = loop.simulation().state();
+        QCOMPARE(s.robots[1].x, 0.5);
+        QCOMPARE(s.robots[1].theta, 1.0);
+        QCOMPARE(s.ball.x, -0.6);
+        QCOMPARE(s.ball.vx, 0.0);
+        QCOMPARE(sink.replies.size(), std::size_t(2));
+    }
+
+    void fallingBehindDropsTheLag() {
+        EngineLoopSettings settings;
+        settings.maxLag = 0.5;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(0);
+        loop.runUntil(10'000 * kMs);  // 10 s late: as if the machine had stalled
+        QCOMPARE(loop.stats().lagResets, 1);
+        QCOMPARE(loop.simulation().state().step, 500);
+        // Re-anchored: the next image is one frame period after now.
+        QCOMPARE(loop.nextWakeNs(), 10'000 * kMs + 10 * kMs);
+    }
+
+    void statsReply() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.handle(voltages(1 * kMs, 0, 1.0, 1.0), 3 * kMs);
+        EngineRequest stats = control(EngineRequest::Kind::Stats, 4 * kMs);
+        stats.command = "stats";
+        loop.handle(stats, 4 * kMs);
+        const QJsonObject latency = sink.replies.back().extra["command_latency_ms"].toObject();
+        QCOMPARE(latency["count"].toInt(), 1);
+        QCOMPARE(latency["median"].toDouble(), 2.0);
+    }
+};
+
+QTEST_APPLESS_MAIN(TestEngineLoop)
+#include "test_engine_loop.moc"

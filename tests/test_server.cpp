@@ -1,0 +1,487 @@
+// The TCP server end to end, in process: an EngineThread and a ControlServer
+// on a free port, and ProtocolClient clients. Every message type round trip,
+// every bad input of docs/protocol.md, patches versus full frames, lockstep
+// determinism, and the engine holding its pace against a flooding client and
+// one that never reads.
+#include <QSignalSpy>
+#include <QtTest>
+#include <map>
+#include <memory>
+
+#include "camera_renderer.h"
+#include "control_server.h"
+#include "engine_thread.h"
+#include "image_codec.h"
+#include "image_patches.h"
+#include "protocol_client.h"
+#include "scene_io.h"
+
+using namespace vssim;
+using protocol::MessageType;
+
+namespace {
+
+Scene kickoff() {
+    QString error;
+    std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
+    if (!scene) qFatal("%s", qPrintable(error));
+    scene->commands.clear();  // only the clients drive
+    return *scene;
+}
+
+// An engine thread and its server, torn down in order.
+struct Served {
+    std::unique_ptr<EngineThread> engine;
+    std::unique_ptr<ControlServer> server;
+    QStringList log;
+    Served(const Scene& scene, RunMode mode, int helloTimeoutMs = 5000) {
+        EngineLoopSettings loop;
+        loop.mode = mode;
+        ServerSettings settings;
+        settings.port = 0;
+        settings.helloTimeoutMs = helloTimeoutMs;
+        engine = std::make_unique<EngineThread>(scene, loop);
+        server = std::make_unique<ControlServer>(scene, *engine, settings);
+        QObject::connect(server.get(), &ControlServer::logLine, [this](const QString& line) { log << line; });
+        QString error;
+        if (!server->listen(&error)) qFatal("%s", qPrintable(error));
+        engine->start();
+    }
+    ~Served() {
+        server.reset();
+        engine->requestStop();
+        engine->wait();
+    }
+    quint16 port() const { return server->port(); }
+};
+
+QJsonObject helloJson(const QString& role, const QString& images = "patches", const QString& encoding = "raw",
+                      bool state = false) {
+    return QJsonObject{{"protocol", 1}, {"role", role}, {"images", images}, {"encoding", encoding}, {"state", state}};
+}
+
+QJsonObject controlJson(const QString& command, const QJsonObject& args = {}, int id = 0) {
+    QJsonObject json = args;
+    json["command"] = command;
+    json["id"] = id;
+    return json;
+}
+
+struct Frame {
+    protocol::FrameHeader header;
+    std::vector<protocol::FramePatch> patches;
+};
+
+Frame decode(const protocol::Message& message) {
+    Frame f;
+    QString error;
+    if (!protocol::decodeFrame(message.payload, &f.header, &f.patches, &error)) qFatal("%s", qPrintable(error));
+    return f;
+}
+
+cv::Mat image(const protocol::FramePatch& p, ImageEncoding encoding) {
+    cv::Mat out;
+    std::string error;
+    if (!decodeImage(p.data.data(), p.data.size(), encoding, p.w, p.h, out, &error)) qFatal("%s", error.c_str());
+    return out;
+}
+
+// A connected, greeted client (WELCOME and, with images, the background read).
+std::unique_ptr<ProtocolClient> join(quint16 port, const QJsonObject& hello, QJsonObject* welcome = nullptr) {
+    auto client = std::make_unique<ProtocolClient>();
+    if (!client->connectTo(port)) return nullptr;
+    const std::optional<QJsonObject> w = client->hello(hello);
+    if (!w) return nullptr;
+    if (welcome) *welcome = *w;
+    if (hello["images"].toString("patches") != "none" && !client->nextOf(MessageType::Frame)) return nullptr;
+    return client;
+}
+
+QJsonObject expectError(ProtocolClient& client, const QString& code) {
+    const auto r = client.nextOf(MessageType::Error);
+    if (!r) return {};
+    const QJsonObject json = jsonPayload(r->message);
+    if (json["error"].toString() != code) qWarning() << "got" << json;
+    return json;
+}
+
+// Sends a step and returns the reply (frames and states before it go to `before`).
+QJsonObject step(ProtocolClient& client, double duration, std::vector<protocol::Message>* before = nullptr, int id = 1) {
+    client.sendJson(MessageType::Control, controlJson("step", {{"duration", duration}}, id));
+    for (;;) {
+        const auto r = client.next();
+        if (!r) return {};
+        if (r->message.type == static_cast<std::uint8_t>(MessageType::Reply) ||
+            r->message.type == static_cast<std::uint8_t>(MessageType::Error))
+            return jsonPayload(r->message);
+        if (before) before->push_back(r->message);
+    }
+}
+
+}  // namespace
+
+class TestServer : public QObject {
+    Q_OBJECT
+private slots:
+    void welcomeAndBackground() {
+        const Scene scene = kickoff();
+        Served served(scene, RunMode::Lockstep);
+        ProtocolClient client;
+        QVERIFY(client.connectTo(served.port()));
+        const auto welcome = client.hello(helloJson("yellow", "patches", "raw"));
+        QVERIFY(welcome);
+        QCOMPARE((*welcome)["protocol"].toInt(), 1);
+        QCOMPARE((*welcome)["role"].toString(), QString("yellow"));
+        QCOMPARE((*welcome)["mode"].toString(), QString("lockstep"));
+        QCOMPARE((*welcome)["dt"].toDouble(), scene.simulation.dt);
+        QCOMPARE((*welcome)["frame_period"].toDouble(), 0.03);
+        const QJsonArray robots = (*welcome)["robots"].toArray();
+        QCOMPARE(robots.size(), qsizetype(scene.robots.size()));
+        for (int i = 0; i < robots.size(); ++i) {
+            QCOMPARE(robots[i]["index"].toInt(), i);
+            QCOMPARE(robots[i]["name"].toString(), QString::fromStdString(scene.robots[i].name));
+            QCOMPARE(robots[i]["team"].toString(), teamName(scene.robots[i].team));
+        }
+        const QJsonObject camera = (*welcome)["camera"].toObject();
+        QCOMPARE(camera["scale"].toDouble(), std::min(600 / scene.field.length, 440 / scene.field.width));
+        // The background FRAME is the renderer's empty field, byte for byte.
+        const auto bg = client.nextOf(MessageType::Frame);
+        QVERIFY(bg);
+        const Frame f = decode(bg->message);
+        QCOMPARE(f.header.kind, protocol::FrameKind::Background);
+        QCOMPARE(f.patches.size(), std::size_t(1));
+        QCOMPARE(f.patches[0].data.size(), std::size_t(640 * 480 * 3));
+        const cv::Mat want = CameraRenderer(scene).background();
+        QCOMPARE(cv::norm(image(f.patches[0], ImageEncoding::Raw), want, cv::NORM_INF), 0.0);
+    }
+
+    void voltagesStepFrameStateReplyInOrder() {
+        const Scene scene = kickoff();
+        Served served(scene, RunMode::Lockstep);
+        auto client = join(served.port(), helloJson("yellow", "patches", "png", true));
+        QVERIFY(client);
+        client->send(MessageType::Voltages, protocol::encodeVoltages({{0, {5.0, 4.0}}, {2, {-1.0, 30.0}}}));
+        std::vector<protocol::Message> before;
+        const QJsonObject reply = step(*client, 0.03, &before, 42);
+        QCOMPARE(reply["ok"].toBool(), true);
+        QCOMPARE(reply["id"].toInt(), 42);
+        QCOMPARE(reply["command"].toString(), QString("step"));
+        QCOMPARE(reply["time"].toDouble(), 30 * scene.simulation.dt);
+        QCOMPARE(reply["frame"].toInt(), 1);
+        // FRAME then STATE for that instant, before the REPLY.
+        QCOMPARE(before.size(), std::size_t(2));
+        QCOMPARE(before[0].type, std::uint8_t(MessageType::Frame));
+        QCOMPARE(before[1].type, std::uint8_t(MessageType::State));
+        const Frame frame = decode(before[0]);
+        QCOMPARE(frame.header.frame, 1u);
+        QCOMPARE(frame.header.time, reply["time"].toDouble());
+        QCOMPARE(frame.patches.size(), scene.robots.size() + 1);
+        const QJsonObject state = jsonPayload(before[1]);
+        QCOMPARE(state["frame"].toInt(), 1);
+        const QJsonArray robots = state["robots"].toArray();
+        QCOMPARE(robots[0]["right_voltage"].toDouble(), 5.0);
+        QCOMPARE(robots[0]["left_voltage"].toDouble(), 4.0);
+        QCOMPARE(robots[2]["left_voltage"].toDouble(), scene.robots[2].params.max_voltage);  // clamped
+        QVERIFY(robots[0]["v"].toDouble() > 0.1);  // it moved
+        QCOMPARE(robots[1]["v"].toDouble(), 0.0);
+    }
+
+    void everyControlCommand() {
+        const Scene scene = kickoff();
+        Served served(scene, RunMode::Realtime);
+        auto client = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(client);
+        auto control = [&](const QString& command, const QJsonObject& args = {}) {
+            client->sendJson(MessageType::Control, controlJson(command, args, 9));
+            for (;;) {
+                const auto r = client->next();
+                if (!r) return QJsonObject{{"timeout", true}};
+                if (r->message.type == std::uint8_t(MessageType::Reply) || r->message.type == std::uint8_t(MessageType::Error))
+                    return jsonPayload(r->message);
+            }
+        };
+        QCOMPARE(control("pause")["ok"].toBool(), true);
+        const double pausedAt = control("stats")["time"].toDouble();
+        QTest::qWait(100);
+        QCOMPARE(control("stats")["time"].toDouble(), pausedAt);  // time stands still
+        QCOMPARE(control("step", {{"duration", 0.1}})["time"].toDouble(), pausedAt + 0.1);
+        QJsonObject placed = control("place_robot", {{"robot", 3}, {"x", 0.5}, {"y", -0.4}, {"theta", 1.0}});
+        QCOMPARE(placed["ok"].toBool(), true);
+        QCOMPARE(control("place_ball", {{"x", -0.6}, {"y", 0.5}, {"vx", 0.25}})["ok"].toBool(), true);
+        QCOMPARE(control("step", {{"duration", 0.001}})["ok"].toBool(), true);
+        QCOMPARE(control("stats")["stats"].toObject().contains("command_latency_ms"), true);
+        const QJsonObject speed = control("speed", {{"speed", 3.0}});
+        QCOMPARE(speed["ok"].toBool(), true);
+        QCOMPARE(control("resume")["ok"].toBool(), true);
+        const double t0 = control("stats")["time"].toDouble();
+        QTest::qWait(300);
+        const double t1 = control("stats")["time"].toDouble();
+        QVERIFY2(t1 - t0 > 0.3, qPrintable(QString("x3 for 0.3 s advanced %1 s").arg(t1 - t0)));
+        QCOMPARE(control("speed", {{"speed", "max"}})["ok"].toBool(), true);
+        QCOMPARE(control("reset")["frame"].toInt() >= 0, true);
+        QCOMPARE(control("step", {{"duration", 0.03}})["error"].toString(), QString("not_paused"));
+        QCOMPARE(control("warp")["error"].toString(), QString("unknown_command"));
+        QCOMPARE(control("place_robot", {{"robot", 0}, {"x", 0.9}, {"y", 0.0}, {"theta", 0.0}})["error"].toString(),
+                 QString("outside_field"));
+    }
+
+    void placedBodiesAppearInTheState() {
+        Served served(kickoff(), RunMode::Lockstep);
+        auto client = join(served.port(), helloJson("blue", "none", "png", true));
+        QVERIFY(client);
+        client->sendJson(MessageType::Control, controlJson("place_robot", {{"robot", 4}, {"x", 0.5}, {"y", -0.4}, {"theta", 1.0}}));
+        client->sendJson(MessageType::Control, controlJson("place_ball", {{"x", -0.6}, {"y", 0.5}}));
+        QVERIFY(client->nextOf(MessageType::Reply));
+        QVERIFY(client->nextOf(MessageType::Reply));
+        std::vector<protocol::Message> before;
+        QVERIFY(step(*client, 0.001, &before)["ok"].toBool());
+        QVERIFY(!before.empty());
+        const QJsonObject state = jsonPayload(before.back());
+        const QJsonObject robot = state["robots"].toArray()[4].toObject();
+        QCOMPARE(robot["x"].toDouble(), 0.5);
+        QCOMPARE(robot["theta"].toDouble(), 1.0);
+        QCOMPARE(state["ball"].toObject()["x"].toDouble(), -0.6);
+    }
+
+    void pastedPatchesEqualTheFullFrame() {
+        const Scene scene = kickoff();
+        Served served(scene, RunMode::Lockstep);
+        auto patches = join(served.port(), helloJson("yellow", "patches", "png"));
+        auto full = join(served.port(), helloJson("observer", "full", "raw"));
+        QVERIFY(patches && full);
+        const cv::Mat background = CameraRenderer(scene).background();
+        // Drive two robots into each other and the ball so that patches overlap.
+        patches->send(MessageType::Voltages, protocol::encodeVoltages({{0, {7.0, 6.0}}, {1, {5.0, 7.0}}, {2, {7.0, 7.0}}}));
+        for (int n = 1; n <= 40; ++n) {
+            QVERIFY(step(*patches, 0.03)["ok"].toBool());
+            const auto ff = full->nextOf(MessageType::Frame);
+            QVERIFY(ff);
+            const Frame whole = decode(ff->message);
+            QCOMPARE(int(whole.header.frame), n);
+            QCOMPARE(whole.header.kind, protocol::FrameKind::Full);
+        }
+        // Now with bodies in contact: paste and compare at each instant.
+        for (int n = 0; n < 20; ++n) {
+            std::vector<protocol::Message> before;
+            QVERIFY(step(*patches, 0.03, &before)["ok"].toBool());
+            QCOMPARE(before.size(), std::size_t(1));
+            const Frame p = decode(before[0]);
+            const auto ff = full->nextOf(MessageType::Frame);
+            QVERIFY(ff);
+            const Frame f = decode(ff->message);
+            QCOMPARE(p.header.frame, f.header.frame);
+            cv::Mat canvas = background.clone();
+            double covered = 0;
+            for (const protocol::FramePatch& patch : p.patches) {
+                if (patch.w == 0) continue;
+                QVERIFY(pastePatch(canvas, cv::Rect(patch.x, patch.y, patch.w, patch.h), image(patch, ImageEncoding::Png)));
+                covered += patch.w * patch.h;
+            }
+            QCOMPARE(cv::norm(canvas, image(f.patches[0], ImageEncoding::Raw), cv::NORM_INF), 0.0);
+            QVERIFY(covered / (640.0 * 480.0) < 0.04);
+        }
+    }
+
+    void lockstepIsDeterministic() {
+        const Scene scene = kickoff();
+        auto run = [&] {
+            Served served(scene, RunMode::Lockstep);
+            auto client = join(served.port(), helloJson("yellow", "patches", "png", true));
+            std::vector<QByteArray> received;
+            if (!client) return received;
+            for (int n = 0; n < 30; ++n) {
+                const double e = 7.0 * std::sin(0.3 * n);
+                client->send(MessageType::Voltages, protocol::encodeVoltages({{0, {e, 7.0 - e}}, {1, {7.0, 7.0}}}));
+                std::vector<protocol::Message> before;
+                step(*client, 0.03 + 0.001 * (n % 3), &before);
+                for (const auto& m : before) received.push_back(m.payload);
+            }
+            return received;
+        };
+        const auto a = run(), b = run();
+        QCOMPARE(a.size(), std::size_t(60));
+        QVERIFY(a == b);
+    }
+
+    void badInputGetsErrorsAndOthersCarryOn() {
+        const Scene scene = kickoff();
+        Served served(scene, RunMode::Lockstep);
+        auto good = join(served.port(), helloJson("blue", "none", "png", true));
+        QVERIFY(good);
+        auto yellow = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(yellow);
+        auto stillWorks = [&] { return step(*good, 0.03)["ok"].toBool(); };
+
+        // Not fatal: the client stays connected and is told what was wrong.
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{9, {1.0, 1.0}}}));
+        QVERIFY(expectError(*yellow, "bad_robot")["message"].toString().contains("no robot 9"));
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{3, {1.0, 1.0}}}));
+        QVERIFY(expectError(*yellow, "not_your_robot")["message"].toString().contains("other team"));
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{0, {std::nan(""), 1.0}}}));
+        QCOMPARE(expectError(*yellow, "not_finite")["fatal"].toBool(), false);
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{1, {1.0, -HUGE_VAL}}}));
+        QVERIFY(expectError(*yellow, "not_finite")["message"].toString().contains("left"));
+        yellow->send(MessageType::Voltages, QByteArray("\x02\x00", 2));
+        QVERIFY(expectError(*yellow, "malformed")["message"].toString().contains("payload bytes"));
+        yellow->send(MessageType::Control, "{not json");
+        QVERIFY(expectError(*yellow, "malformed")["message"].toString().contains("invalid JSON"));
+        yellow->send(MessageType::Control, "[1,2]");
+        QVERIFY(expectError(*yellow, "malformed")["message"].toString().contains("object"));
+        yellow->send(static_cast<MessageType>(0x42), "whatever");
+        QVERIFY(expectError(*yellow, "unknown_type")["message"].toString().contains("0x42"));
+        yellow->sendJson(MessageType::Hello, helloJson("yellow"));
+        QCOMPARE(expectError(*yellow, "malformed")["fatal"].toBool(), false);
+        QVERIFY(stillWorks());
+        // None of the rejected voltages reached the engine.
+        std::vector<protocol::Message> before;
+        QVERIFY(step(*good, 0.001, &before)["ok"].toBool());
+        const QJsonArray robots = jsonPayload(before.back())["robots"].toArray();
+        for (const QJsonValue& r : robots) QCOMPARE(r["right_voltage"].toDouble(), 0.0);
+
+        // An observer cannot drive.
+        auto observer = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(observer);
+        observer->send(MessageType::Voltages, protocol::encodeVoltages({{0, {1.0, 1.0}}}));
+        QVERIFY(expectError(*observer, "not_your_robot")["message"].toString().contains("observer"));
+
+        // Fatal: the connection is closed after the ERROR.
+        ProtocolClient oversize;
+        QVERIFY(oversize.connectTo(served.port()));
+        QVERIFY(oversize.hello(helloJson("observer", "none")));
+        QByteArray huge(4, '\0');
+        huge[1] = 0x01;  // length 65,536 + 1... spelled as 0x00010001
+        huge[3] = 0x01;
+        oversize.sendRaw(huge + QByteArray(1, '\x03'));
+        QVERIFY(expectError(oversize, "oversize")["fatal"].toBool());
+        QVERIFY(oversize.waitForDisconnect());
+
+        ProtocolClient rude;
+        QVERIFY(rude.connectTo(served.port()));
+        rude.send(MessageType::Voltages, protocol::encodeVoltages({{0, {1.0, 1.0}}}));
+        QCOMPARE(expectError(rude, "hello_required")["fatal"].toBool(), true);
+        QVERIFY(rude.waitForDisconnect());
+
+        ProtocolClient empty;
+        QVERIFY(empty.connectTo(served.port()));
+        empty.sendRaw(QByteArray(4, '\0'));
+        QVERIFY(!expectError(empty, "malformed").isEmpty());
+        QVERIFY(empty.waitForDisconnect());
+
+        ProtocolClient second;
+        QVERIFY(second.connectTo(served.port()));
+        QVERIFY(!second.hello(helloJson("yellow")));
+        QVERIFY(expectError(second, "role_taken")["message"].toString().contains("yellow"));
+        QVERIFY(second.waitForDisconnect());
+
+        ProtocolClient future;
+        QVERIFY(future.connectTo(served.port()));
+        QVERIFY(!future.hello(QJsonObject{{"protocol", 2}, {"role", "observer"}}));
+        QVERIFY(!expectError(future, "unsupported_protocol").isEmpty());
+
+        ProtocolClient garbage;
+        QVERIFY(garbage.connectTo(served.port()));
+        QByteArray noise(3000, '\0');
+        for (int i = 0; i < noise.size(); ++i) noise[i] = static_cast<char>((i * 7919) % 251);
+        garbage.sendRaw(noise);
+        QVERIFY(garbage.waitForDisconnect());
+
+        QVERIFY(stillWorks());
+        QVERIFY(served.log.filter("oversize").size() >= 1);
+        QVERIFY(served.log.filter("hello_required").size() >= 1);
+    }
+
+    void silentClientTimesOut() {
+        Served served(kickoff(), RunMode::Lockstep, 300);
+        ProtocolClient silent;
+        QSignalSpy closed(&silent.socket(), &QTcpSocket::disconnected);
+        QVERIFY(silent.connectTo(served.port()));
+        const QJsonObject error = expectError(silent, "hello_timeout");
+        QCOMPARE(error["fatal"].toBool(), true);
+        QVERIFY(closed.count() == 1 || closed.wait(3000));
+        QTRY_COMPARE(served.server->clientCount(), 0);
+    }
+
+    void disconnectingTeamStopsItsRobots() {
+        Served served(kickoff(), RunMode::Lockstep);
+        auto watcher = join(served.port(), helloJson("observer", "none", "png", true));
+        auto yellow = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(watcher && yellow);
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{0, {6.0, 6.0}}}));
+        // The engine handles requests in order: once yellow's stats reply is
+        // back, its voltages have been applied.
+        yellow->sendJson(MessageType::Control, controlJson("stats"));
+        QVERIFY(yellow->nextOf(MessageType::Reply));
+        std::vector<protocol::Message> before;
+        QVERIFY(step(*watcher, 0.03, &before)["ok"].toBool());
+        QCOMPARE(jsonPayload(before.back())["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 6.0);
+        yellow->socket().disconnectFromHost();
+        QTRY_COMPARE(served.server->clientCount(), 1);
+        before.clear();
+        QVERIFY(step(*watcher, 0.03, &before)["ok"].toBool());
+        QCOMPARE(jsonPayload(before.back())["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 0.0);
+        // The team's role is free again.
+        QVERIFY(join(served.port(), helloJson("yellow", "none")));
+    }
+
+    void realtimeCommandsActAtArrival() {
+        // In real time, a command acts at the first step boundary after it
+        // arrived: the simulated delay is below one step (dt = 1 ms), not the
+        // up to 30 ms of waiting for the next image.
+        Served served(kickoff(), RunMode::Realtime);
+        auto yellow = join(served.port(), helloJson("yellow", "none", "png", true));
+        QVERIFY(yellow);
+        for (int i = 0; i < 40; ++i) {
+            yellow->send(MessageType::Voltages, protocol::encodeVoltages({{0, {0.1 * (i % 5), 0.0}}}));
+            QTest::qWait(7);
+        }
+        yellow->sendJson(MessageType::Control, controlJson("stats"));
+        const auto reply = yellow->nextOf(MessageType::Reply);
+        QVERIFY(reply);
+        const QJsonObject stats = jsonPayload(reply->message)["stats"].toObject();
+        const QJsonObject delay = stats["command_delay_ms"].toObject();
+        QCOMPARE(delay["count"].toInt(), 40);
+        QVERIFY2(delay["median"].toDouble() <= 1.0 + 1e-9, qPrintable(QString::number(delay["median"].toDouble())));
+        QVERIFY(stats["late_commands"].toInt() < 20);
+    }
+
+    void framesKeepComingDespiteAFloodAndASleeper() {
+        // One client floods commands, another never reads its (large, raw,
+        // full) frames: the observer still gets every frame in order, the
+        // sleeper is not disconnected but loses old frames, and simulated
+        // time keeps up with the wall clock.
+        Served served(kickoff(), RunMode::Realtime);
+        auto observer = join(served.port(), helloJson("observer", "patches", "png", true));
+        auto sleeper = join(served.port(), helloJson("blue", "full", "raw"));
+        auto flooder = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(observer && sleeper && flooder);
+        sleeper->setReading(false);
+        QElapsedTimer wall;
+        wall.start();
+        std::vector<std::uint32_t> frames;
+        double firstTime = -1, lastTime = 0;
+        while (wall.elapsed() < 1500) {
+            QByteArray burst;
+            for (int i = 0; i < 50; ++i)
+                burst += protocol::encodeMessage(MessageType::Voltages, protocol::encodeVoltages({{0, {7.0, -7.0}}}));
+            flooder->sendRaw(burst);
+            while (auto r = observer->next(1)) {
+                if (r->message.type != std::uint8_t(MessageType::Frame)) continue;
+                const Frame f = decode(r->message);
+                frames.push_back(f.header.frame);
+                if (firstTime < 0) firstTime = f.header.time;
+                lastTime = f.header.time;
+            }
+        }
+        QVERIFY2(frames.size() >= 25, qPrintable(QString::number(frames.size())));
+        for (std::size_t i = 1; i < frames.size(); ++i) QCOMPARE(frames[i], frames[i - 1] + 1);
+        QVERIFY2(lastTime - firstTime > 1.0, qPrintable(QString::number(lastTime - firstTime)));
+        QCOMPARE(sleeper->socket().state(), QAbstractSocket::ConnectedState);
+        observer->sendJson(MessageType::Control, controlJson("stats"));
+        const auto reply = observer->nextOf(MessageType::Reply);
+        QVERIFY(reply);
+        QVERIFY(jsonPayload(reply->message)["stats"].toObject()["frames_dropped_for_slow_clients"].toInt() > 0);
+    }
+};
+
+QTEST_GUILESS_MAIN(TestServer)
+#include "test_server.moc"
