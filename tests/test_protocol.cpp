@@ -114,6 +114,7 @@ private slots:
     void controlErrors_data();
     void controlErrors();
     void controlNonFiniteNumbers();
+    void reviewFindings();
 };
 
 void TestProtocol::encodeMessageLayout() {
@@ -672,6 +673,29 @@ void TestProtocol::controlNonFiniteNumbers() {
             QCOMPARE(error.code, QString("malformed"));
         }
     }
+}
+
+// Cases from a review: names count characters (not UTF-16 units), the
+// version is checked before the keys, non-finite volts are named in words,
+// and the encoder refuses what the one-byte fields cannot carry.
+void TestProtocol::reviewFindings() {
+    RequestError error;
+    QString emoji;
+    for (int i = 0; i < 64; ++i) emoji += QString::fromUtf8("\xF0\x9F\x98\x80");  // U+1F600, two UTF-16 units
+    auto h = parseHello(QJsonObject{{"protocol", 1}, {"role", "blue"}, {"name", emoji}}, &error);
+    QVERIFY2(h, qPrintable(error.message));
+    QCOMPARE(h->name, emoji);
+    QVERIFY(!parseHello(QJsonObject{{"protocol", 1}, {"role", "blue"}, {"name", emoji + "x"}}, &error));
+    QVERIFY(!parseHello(QJsonObject{{"protocol", 2}, {"role", "blue"}, {"new_key", 1}}, &error));
+    QCOMPARE(error.code, QString("unsupported_protocol"));
+    const auto nan = checkVoltages({{0, {std::nan(""), 0.0}}}, fourRobotScene(), ClientRole::Yellow);
+    QVERIFY(nan && nan->message.endsWith("is NaN"));
+    const auto inf = checkVoltages({{0, {0.0, -HUGE_VAL}}}, fourRobotScene(), ClientRole::Yellow);
+    QVERIFY(inf && inf->message.endsWith("is -infinity"));
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument,
+                             protocol::encodeVoltages(std::vector<std::pair<int, Voltages>>(256, {0, Voltages{}})));
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument, protocol::encodeVoltages({{256, Voltages{}}}));
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument, protocol::encodeVoltages({}));
 }
 
 QTEST_APPLESS_MAIN(TestProtocol)

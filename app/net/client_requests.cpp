@@ -60,8 +60,6 @@ bool robotIndex(const QJsonObject& json, const QString& what, const Scene& scene
 
 std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
     const QString what = QStringLiteral("HELLO");
-    if (!onlyKeys(json, what, {"protocol", "role", "name", "images", "encoding", "jpeg_quality", "state"}, error))
-        return std::nullopt;
     const QJsonValue version = json.value("protocol");
     if (!version.isDouble()) {
         fail(error, "malformed", "HELLO: \"protocol\" (a number, 1) is required");
@@ -72,6 +70,9 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
              QStringLiteral("HELLO: protocol %1 is not supported (this server speaks 1)").arg(version.toDouble()));
         return std::nullopt;
     }
+    // Keys are checked after the version: a later version's HELLO may have new ones.
+    if (!onlyKeys(json, what, {"protocol", "role", "name", "images", "encoding", "jpeg_quality", "state"}, error))
+        return std::nullopt;
     Hello hello;
     const QString role = json.value("role").toString();
     if (role == "yellow") hello.role = ClientRole::Yellow;
@@ -82,12 +83,16 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
         return std::nullopt;
     }
     const QJsonValue name = json.value("name");
-    if (!name.isUndefined() && (!name.isString() || name.toString().size() > 64)) {
+    const QList<uint> codePoints = name.toString().toUcs4();
+    if (!name.isUndefined() && (!name.isString() || codePoints.size() > 64)) {
         fail(error, "malformed", "HELLO: \"name\" must be a string of at most 64 characters");
         return std::nullopt;
     }
     // Printable only: the name goes into log lines.
-    for (QChar c : name.toString()) hello.name += c.isPrint() ? c : QChar('?');
+    for (uint c : codePoints) {
+        const char32_t cp = static_cast<char32_t>(c);
+        hello.name += QChar::isPrint(cp) ? QString::fromUcs4(&cp, 1) : QStringLiteral("?");
+    }
 
     const QString images = json.value("images").toString("patches");
     if (!json.value("images").isUndefined() && !json.value("images").isString()) {
@@ -145,7 +150,8 @@ std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Volta
         for (auto [side, volts] : {std::pair{"right", e.right}, std::pair{"left", e.left}})
             if (!std::isfinite(volts))
                 return RequestError{"not_finite", QStringLiteral("%1: robot %2 %3 voltage is %4")
-                                                      .arg(where).arg(robot).arg(side).arg(volts)};
+                                                      .arg(where).arg(robot).arg(side)
+                                                      .arg(std::isnan(volts) ? "NaN" : volts > 0 ? "+infinity" : "-infinity")};
     }
     return std::nullopt;
 }

@@ -4,6 +4,7 @@
 #include <QJsonParseError>
 #include <QtEndian>
 #include <cstring>
+#include <stdexcept>
 
 namespace vssim::protocol {
 
@@ -101,9 +102,12 @@ std::optional<QJsonObject> parseJsonObject(const QByteArray& payload, QString* e
 }
 
 QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries) {
+    if (entries.empty() || entries.size() > 255)
+        throw std::invalid_argument("encodeVoltages: 1 to 255 entries");
     QByteArray out;
     putU8(out, static_cast<std::uint8_t>(entries.size()));
     for (const auto& [robot, e] : entries) {
+        if (robot < 0 || robot > 255) throw std::invalid_argument("encodeVoltages: robot indices are 0 to 255");
         putU8(out, static_cast<std::uint8_t>(robot));
         putF64(out, e.right);
         putF64(out, e.left);

@@ -62,7 +62,8 @@ private:
 // Parses a JSON object payload; nullopt and *error when it is not one.
 std::optional<QJsonObject> parseJsonObject(const QByteArray& payload, QString* error);
 
-// VOLTAGES: u8 count, then count x (u8 robot, f64 right, f64 left).
+// VOLTAGES: u8 count, then count x (u8 robot, f64 right, f64 left). Throws
+// std::invalid_argument unless there are 1 to 255 entries with robots 0 to 255.
 QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries);
 // Checks the layout only (sizes); robots and values are the server's to check.
 std::optional<std::vector<std::pair<int, Voltages>>> decodeVoltages(const QByteArray& payload, QString* error);
