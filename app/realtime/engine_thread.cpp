@@ -17,7 +17,12 @@ QString subscriptionName(const ImageSubscription& s) {
 }
 
 EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& settings, QObject* parent)
-    : QThread(parent), scene_(scene), settings_(settings), renderer_(scene) {}
+    : QThread(parent), scene_(scene), settings_(settings), renderer_(scene) {
+    // Readers see the initial state (and the mode) from the start, before
+    // the thread runs.
+    EngineLoop initial(scene_, settings_, *this);
+    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, 0.0, monotonicNs())));
+}
 
 EngineThread::~EngineThread() {
     requestStop();
@@ -55,17 +60,22 @@ std::vector<OutboxItem> EngineThread::takeOutbox() {
     return items;
 }
 
-void EngineThread::push(OutboxItem item, bool replaceFrame) {
+void EngineThread::push(OutboxItem item) {
     bool wasEmpty;
     {
         std::lock_guard lock(outboxMutex_);
-        if (replaceFrame) {
-            // Keep the newest frame only: a reader that has not taken the
-            // previous one yet would only send it late.
-            for (auto it = outbox_.begin(); it != outbox_.end(); ++it) {
-                if (it->frame) {
-                    outbox_.erase(it);
-                    break;
+        if (item.frame) {
+            // A reader that has fallen far behind (a stalled main thread)
+            // loses the oldest frames rather than the engine's memory.
+            std::size_t frames = 0;
+            for (const OutboxItem& queued : outbox_) frames += queued.frame ? 1 : 0;
+            if (frames >= kMaxQueuedFrames) {
+                for (auto it = outbox_.begin(); it != outbox_.end(); ++it) {
+                    if (it->frame) {
+                        outbox_.erase(it);
+                        ++framesSkipped_;
+                        break;
+                    }
                 }
             }
         }
@@ -168,7 +178,7 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
     }
     if (stateWanted)
         packet->state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame));
-    push(OutboxItem{std::move(packet), std::nullopt}, true);
+    push(OutboxItem{std::move(packet), std::nullopt});
 }
 
 QJsonObject EngineThread::cameraStats() const {
@@ -190,7 +200,7 @@ void EngineThread::reply(const EngineReply& reply) {
         const QJsonObject camera = cameraStats();
         for (auto it = camera.begin(); it != camera.end(); ++it) r.extra.insert(it.key(), it.value());
     }
-    push(OutboxItem{nullptr, std::move(r)}, false);
+    push(OutboxItem{nullptr, std::move(r)});
 }
 
 }  // namespace vssim

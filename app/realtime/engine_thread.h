@@ -1,8 +1,9 @@
 // The engine's worker thread: runs an EngineLoop (model.md §8) against the
 // monotonic clock, renders and encodes camera images for the subscribers,
 // and publishes snapshots. Other threads talk to it through post() (requests
-// stamped on arrival), takeOutbox() (frames and replies, in order; a frame
-// not yet taken is replaced by a newer one) and snapshots().
+// stamped on arrival), takeOutbox() (frames and replies, in order) and
+// snapshots(). As fast as possible, a camera instant is rendered only when the
+// previous frame has been taken.
 #pragma once
 
 #include <QThread>
@@ -42,6 +43,7 @@ public:
     void requestStop();
 
     static constexpr std::size_t kMaxQueuedRequests = 10000;
+    static constexpr std::size_t kMaxQueuedFrames = 64;  // not taken yet; beyond, the oldest go
 
 signals:
     // The outbox went from empty to not empty (emitted from the engine thread).
@@ -53,7 +55,7 @@ protected:
 private:
     void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) override;
     void reply(const EngineReply& reply) override;
-    void push(OutboxItem item, bool replaceFrame);
+    void push(OutboxItem item);
     QJsonObject cameraStats() const;
 
     const Scene scene_;
