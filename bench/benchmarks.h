@@ -1,4 +1,4 @@
-// The four benchmarks of docs/performance.md. Each writes CSV to `out` and a
+// The benchmarks of docs/performance.md. Each writes CSV to `out` and a
 // short human summary to `log`.
 #pragma once
 
@@ -17,5 +17,6 @@ int workPrecision(const Options& options, std::ostream& out, std::ostream& log);
 int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log);
 int scale(const Options& options, std::ostream& out, std::ostream& log);
 int stability(const Options& options, std::ostream& out, std::ostream& log);
+int serveLatency(const Options& options, std::ostream& out, std::ostream& log);
 
 }  // namespace vssim::bench

@@ -1,6 +1,6 @@
 // vssim_bench: runs the benchmarks of docs/performance.md and writes CSV.
 //
-//   vssim_bench [--quick] [--out DIR] [--scene FILE] [all|work-precision|realtime|scale|stability]...
+//   vssim_bench [--quick] [--out DIR] [--scene FILE] [all|work-precision|realtime|scale|stability|serve]...
 #include <QCoreApplication>
 #include <QDir>
 #include <cstdio>
@@ -24,6 +24,8 @@ const char* kHelp =
     "  realtime         real-time factor of the 3-vs-3 scene headless (realtime.csv)\n"
     "  scale            cost per robot from 6 to 1000 robots, broad phase on/off (scale.csv)\n"
     "  stability        each integrator's stability limit in step size (stability.csv)\n"
+    "  serve            vssim serve in real time for a minute: command latency, image period and\n"
+    "                   jitter, render/encode time, bytes per frame (serve.csv)\n"
     "\n"
     "Options:\n"
     "  --out DIR      folder for the CSV files (default: bench-results), created if needed\n"
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
         {"realtime", {vssim::bench::realtimeFactor, "realtime.csv"}},
         {"scale", {vssim::bench::scale, "scale.csv"}},
         {"stability", {vssim::bench::stability, "stability.csv"}},
+        {"serve", {vssim::bench::serveLatency, "serve.csv"}},
     };
     std::vector<std::string> chosen;
     for (int i = 1; i < argc; ++i) {
@@ -66,7 +69,7 @@ int main(int argc, char** argv) {
         }
     }
     if (chosen.empty())
-        for (const char* name : {"stability", "work-precision", "realtime", "scale"}) chosen.push_back(name);
+        for (const char* name : {"stability", "work-precision", "realtime", "scale", "serve"}) chosen.push_back(name);
     if (!QDir().mkpath(QString::fromStdString(outDir))) {
         std::cerr << "vssim_bench: cannot create " << outDir << "\n";
         return 1;

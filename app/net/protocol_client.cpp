@@ -90,6 +90,13 @@ std::optional<ProtocolClient::Received> ProtocolClient::next(int timeoutMs) {
     return r;
 }
 
+std::optional<ProtocolClient::Received> ProtocolClient::poll() {
+    if (inbox_.empty()) return std::nullopt;
+    Received r = std::move(inbox_.front());
+    inbox_.pop_front();
+    return r;
+}
+
 std::optional<ProtocolClient::Received> ProtocolClient::nextOf(protocol::MessageType type, int timeoutMs) {
     QElapsedTimer timer;
     timer.start();

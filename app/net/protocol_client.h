@@ -34,6 +34,8 @@ public:
 
     // The next message (of any type), waiting up to timeoutMs.
     std::optional<Received> next(int timeoutMs = 5000);
+    // The next message already received, without waiting.
+    std::optional<Received> poll();
     // The next message of `type`; messages of other types before it are dropped.
     std::optional<Received> nextOf(protocol::MessageType type, int timeoutMs = 5000);
     // Waits until the server closes the connection.

@@ -9,13 +9,6 @@
 
 namespace vssim {
 
-QString subscriptionName(const ImageSubscription& s) {
-    QString name = s.kind == protocol::FrameKind::Full ? QStringLiteral("full/") : QStringLiteral("patches/");
-    name += encodingName(s.encoding);
-    if (s.encoding == ImageEncoding::Jpeg) name += QString::number(s.jpegQuality);
-    return name;
-}
-
 EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& settings, QObject* parent)
     : QThread(parent), scene_(scene), settings_(settings), renderer_(scene) {
     // Readers see the initial state (and the mode) from the start, before
@@ -73,12 +66,14 @@ void EngineThread::push(OutboxItem item) {
                 for (auto it = outbox_.begin(); it != outbox_.end(); ++it) {
                     if (it->frame) {
                         outbox_.erase(it);
-                        ++framesSkipped_;
+                        ++framesDropped_;
                         break;
                     }
                 }
             }
         }
+        if (item.reply && item.reply->command == QLatin1String("stats") && item.reply->ok)
+            item.reply->extra["frames_dropped_unsent"] = static_cast<double>(framesDropped_);
         wasEmpty = outbox_.empty();
         outbox_.push_back(std::move(item));
     }
@@ -86,6 +81,10 @@ void EngineThread::push(OutboxItem item) {
 }
 
 void EngineThread::run() {
+    encoder_ = std::make_unique<FrameEncoder>(
+        [this](std::shared_ptr<const FramePacket> frame, std::optional<EngineReply> reply) {
+            push(OutboxItem{std::move(frame), std::move(reply)});
+        });
     EngineLoop loop(scene_, settings_, *this);
     loop_ = &loop;
     loop.start(monotonicNs());
@@ -116,91 +115,52 @@ void EngineThread::run() {
         snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, stepCost, endNs)));
     }
     loop_ = nullptr;
+    encoder_.reset();  // finishes the jobs queued
 }
 
 void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) {
-    std::vector<ImageSubscription> images;
+    EncodeJob job;
     bool stateWanted;
     {
         std::lock_guard lock(mutex_);
-        images = images_;
+        job.subscriptions = images_;
         stateWanted = stateWanted_;
     }
-    if (images.empty() && !stateWanted) return;  // nobody is watching: no rendering
-    if (loop_->mode() == RunMode::Realtime && !loop_->paused()) {
+    if (job.subscriptions.empty() && !stateWanted) return;  // nobody is watching: no rendering
+    const bool running = loop_->mode() != RunMode::Lockstep && !loop_->paused();
+    if (loop_->mode() == RunMode::Realtime && running) {
         if (lastInstantNs_ >= 0) framePeriodMs_.add(1e-6 * static_cast<double>(nowNs - lastInstantNs_));
         lastInstantNs_ = nowNs;
     } else {
         lastInstantNs_ = -1;
     }
-    if (loop_->mode() == RunMode::Max && !loop_->paused()) {
-        // As fast as possible: render only when the server has taken the
-        // previous frame, instead of rendering thousands nobody can send.
-        std::lock_guard lock(outboxMutex_);
-        for (const OutboxItem& item : outbox_) {
-            if (item.frame) {
-                ++framesSkipped_;
-                return;
-            }
-        }
+    // As fast as possible, render only when the previous frame is on its
+    // way out, instead of rendering thousands nobody could send.
+    if (loop_->mode() == RunMode::Max && running && encoder_->framesInFlight() > 0) {
+        ++framesSkipped_;
+        return;
     }
-
-    auto packet = std::make_shared<FramePacket>();
-    packet->frame = frame;
-    packet->time = sim.state().time;
-    if (!images.empty()) {
-        const std::int64_t t0 = monotonicNs();
-        renderer_.render(sim.state(), frameImage_, patchRects_);
-        renderMs_.add(1e-6 * static_cast<double>(monotonicNs() - t0));
-        for (const ImageSubscription& s : images) {
-            const std::int64_t e0 = monotonicNs();
-            protocol::FrameHeader header;
-            header.frame = static_cast<std::uint32_t>(frame);
-            header.time = sim.state().time;
-            header.kind = s.kind;
-            header.encoding = s.encoding;
-            std::vector<protocol::FramePatch> patches;
-            if (s.kind == protocol::FrameKind::Full) {
-                patches.push_back({0, 0, frameImage_.cols, frameImage_.rows, encodeImage(frameImage_, s.encoding, s.jpegQuality)});
-            } else {
-                for (const cv::Rect& r : patchRects_) {
-                    protocol::FramePatch p{r.x, r.y, r.width, r.height, {}};
-                    if (!r.empty()) p.data = encodeImage(frameImage_(r), s.encoding, s.jpegQuality);
-                    patches.push_back(std::move(p));
-                }
-            }
-            QByteArray message = protocol::encodeMessage(protocol::MessageType::Frame, protocol::encodeFrame(header, patches));
-            const QString name = subscriptionName(s);
-            encodeMs_[name].add(1e-6 * static_cast<double>(monotonicNs() - e0));
-            frameBytes_[name].add(static_cast<double>(message.size()));
-            packet->images.emplace_back(s, std::move(message));
-        }
+    job.frame = frame;
+    job.time = sim.state().time;
+    if (!job.subscriptions.empty()) {
+        const std::int64_t startNs = monotonicNs();
+        renderer_.render(sim.state(), job.image, job.patches);  // a new image each time: the encoder owns it
+        renderMs_.add(1e-6 * static_cast<double>(monotonicNs() - startNs));
     }
-    if (stateWanted)
-        packet->state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame));
-    push(OutboxItem{std::move(packet), std::nullopt});
-}
-
-QJsonObject EngineThread::cameraStats() const {
-    QJsonObject encode, bytes;
-    for (const auto& [name, stats] : encodeMs_) encode[name] = toJson(stats.summary());
-    for (const auto& [name, stats] : frameBytes_) bytes[name] = toJson(stats.summary());
-    return QJsonObject{
-        {"frame_period_ms", toJson(framePeriodMs_.summary())},
-        {"render_ms", toJson(renderMs_.summary())},
-        {"encode_ms", encode},
-        {"frame_bytes", bytes},
-        {"frames_skipped", static_cast<double>(framesSkipped_)},
-    };
+    if (stateWanted) job.state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame));
+    encoder_->submit(std::move(job));
 }
 
 void EngineThread::reply(const EngineReply& reply) {
-    EngineReply r = reply;
-    if (r.command == QLatin1String("stats") && r.ok) {
-        const QJsonObject camera = cameraStats();
-        for (auto it = camera.begin(); it != camera.end(); ++it) r.extra.insert(it.key(), it.value());
+    EncodeJob job;
+    job.reply = reply;
+    if (reply.command == QLatin1String("stats") && reply.ok) {
+        job.reply->extra["frame_period_ms"] = toJson(framePeriodMs_.summary());
+        job.reply->extra["render_ms"] = toJson(renderMs_.summary());
+        job.reply->extra["frames_skipped"] = static_cast<double>(framesSkipped_);
     }
-    push(OutboxItem{nullptr, std::move(r)});
+    // Through the encoder, to stay in order with the frames before it.
+    encoder_->submit(std::move(job));
 }
 
 }  // namespace vssim

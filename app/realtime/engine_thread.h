@@ -1,6 +1,6 @@
 // The engine's worker thread: runs an EngineLoop (model.md §8) against the
-// monotonic clock, renders and encodes camera images for the subscribers,
-// and publishes snapshots. Other threads talk to it through post() (requests
+// monotonic clock, renders camera images for the subscribers (a FrameEncoder
+// thread encodes them), and publishes snapshots. Other threads talk to it through post() (requests
 // stamped on arrival), takeOutbox() (frames and replies, in order) and
 // snapshots(). As fast as possible, a camera instant is rendered only when the
 // previous frame has been taken.
@@ -16,6 +16,7 @@
 
 #include "camera_renderer.h"
 #include "engine_loop.h"
+#include "frame_encoder.h"
 #include "frame_packet.h"
 #include "snapshot.h"
 
@@ -56,7 +57,6 @@ private:
     void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) override;
     void reply(const EngineReply& reply) override;
     void push(OutboxItem item);
-    QJsonObject cameraStats() const;
 
     const Scene scene_;
     const EngineLoopSettings settings_;
@@ -74,15 +74,12 @@ private:
     std::vector<OutboxItem> outbox_;
 
     // Engine-thread only.
-    cv::Mat frameImage_;
-    std::vector<cv::Rect> patchRects_;
     std::int64_t lastInstantNs_ = -1;
     SampleStats framePeriodMs_, renderMs_;
-    std::map<QString, SampleStats> encodeMs_, frameBytes_;  // per subscription ("patches/png", ...)
-    std::int64_t framesSkipped_ = 0;
-    const EngineLoop* loop_ = nullptr;  // while run() runs
+    std::int64_t framesSkipped_ = 0;     // max mode: instants not rendered, the previous frame being still on its way
+    std::int64_t framesDropped_ = 0;     // dropped from a full outbox (a stalled reader); push() only, on the encoder thread
+    const EngineLoop* loop_ = nullptr;   // while run() runs
+    std::unique_ptr<FrameEncoder> encoder_;  // while run() runs
 };
-
-QString subscriptionName(const ImageSubscription& s);
 
 }  // namespace vssim

@@ -23,6 +23,9 @@ struct ImageSubscription {
     }
 };
 
+// "patches/png", "full/raw", "patches/jpeg90", ...: for logs and statistics.
+QString subscriptionName(const ImageSubscription& s);
+
 struct FramePacket {
     std::int64_t frame = 0;
     double time = 0.0;  // s

@@ -99,7 +99,9 @@ private:
     std::size_t pos_ = 0;
 
     [[noreturn]] void fail() { throw ProtocolError("malformed JSON from the server"); }
-    void skipSpace() { while (pos_ < s_.size() && std::strchr(" \t\r\n", s_[pos_])) ++pos_; }
+    void skipSpace() {
+        while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n')) ++pos_;
+    }
     bool eat(char c) { skipSpace(); if (pos_ < s_.size() && s_[pos_] == c) { ++pos_; return true; } return false; }
     bool eatWord(const char* w) {
         if (s_.compare(pos_, std::strlen(w), w) != 0) return false;
@@ -307,9 +309,9 @@ Frame parseFrame(const std::vector<std::uint8_t>& p) {
         if (w > 0 && h > 0) {
             if (encoding == kRaw) {  // rows top to bottom, 3 bytes B, G, R per pixel
                 if (bytes != std::size_t(w) * std::size_t(h) * 3) throw ProtocolError("raw patch of the wrong size");
-                patch.image = cv::Mat(h, w, CV_8UC3, const_cast<std::uint8_t*>(&p[at])).clone();
+                patch.image = cv::Mat(h, w, CV_8UC3, const_cast<std::uint8_t*>(p.data() + at)).clone();
             } else if (encoding == kPng || encoding == kJpeg) {
-                patch.image = cv::imdecode(cv::Mat(1, int(bytes), CV_8UC1, const_cast<std::uint8_t*>(&p[at])),
+                patch.image = cv::imdecode(cv::Mat(1, int(bytes), CV_8UC1, const_cast<std::uint8_t*>(p.data() + at)),
                                            cv::IMREAD_COLOR);
                 if (patch.image.rows != h || patch.image.cols != w) throw ProtocolError("cannot decode a patch");
             } else {
@@ -475,7 +477,7 @@ int run(const Options& o) {
             const Json e = parseJson(payload);
             const bool ourStep = stepId != 0 && e["id"].type == Json::Number && e["id"].number == stepId;
             if (e["fatal"].number != 0 || ourStep)
-                throw ProtocolError(describeError(e) + (ourStep ? " (is the server running with --lockstep?)" : ""));
+                throw ProtocolError(describeError(e) + (ourStep ? " (step needs `vssim serve --lockstep`, or a paused server)" : ""));
             std::fprintf(stderr, "warning: %s\n", describeError(e).c_str());  // not fatal: carry on
             continue;
         }

@@ -385,7 +385,7 @@ def run(args):
         if msg_type == ERROR:
             error = parse_json(payload, "ERROR")
             if error.get("fatal") or (step_id is not None and error.get("id") == step_id):
-                hint = " (is the server running with --lockstep?)" if error.get("id") == step_id else ""
+                hint = " (step needs `vssim serve --lockstep`, or a paused server)" if error.get("id") == step_id else ""
                 raise ProtocolError(describe_error(error) + hint)
             print(f"warning: {describe_error(error)}", file=sys.stderr)   # not fatal: carry on
             continue

@@ -1,0 +1,153 @@
+// Benchmark 5: `vssim serve` in real time, seen from its clients, as a
+// team's software would use it: a `vssim serve` process with the 3-vs-3
+// kick-off, a team client sending new voltages to its three robots every
+// 7 ms (not in step with the camera), and observers. Two scenarios of a
+// minute each (--quick: 3 s): "typical", one observer taking PNG patches,
+// and "six subscriptions", one observer per image subscription (patches and
+// full frames; raw, PNG, JPEG 90), all encoded every frame. It records when
+// each frame arrives; at the end it asks the server for its own measurements
+// (CONTROL stats): command latency, image period, render and encode time,
+// bytes per frame.
+#include <QCoreApplication>
+#include <QElapsedTimer>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QProcess>
+#include <QRandomGenerator>
+#include <iomanip>
+#include <memory>
+#include <stdexcept>
+
+#include "benchmarks.h"
+#include "protocol_client.h"
+#include "sample_stats.h"
+
+namespace vssim::bench {
+
+namespace {
+
+struct Observer {
+    QString name;  // "patches/png", ...
+    std::unique_ptr<ProtocolClient> client;
+    SampleStats periodMs;
+    std::int64_t lastNs = -1;
+    std::int64_t frames = 0, lastFrame = -1, gaps = 0;
+};
+
+void row(std::ostream& out, const char* scenario, const QString& source, const QString& metric, const QString& subscription,
+         const QJsonObject& s) {
+    out << '"' << scenario << "\"," << source.toStdString() << ',' << metric.toStdString() << ',' << subscription.toStdString() << ','
+        << s["count"].toDouble() << ',' << s["median"].toDouble() << ',' << s["p99"].toDouble() << ','
+        << s["max"].toDouble() << ',' << s["mean"].toDouble() << ',' << s["stddev"].toDouble() << '\n';
+}
+
+void runScenario(const Options& options, const char* scenario, bool allSubscriptions, std::ostream& out,
+                 std::ostream& log) {
+    const double duration = options.quick ? 3.0 : 60.0;  // wall seconds
+    QProcess server;
+    server.setProcessChannelMode(QProcess::ForwardedErrorChannel);
+    server.start(QStringLiteral(VSSIM_BINARY),
+                 {"serve", QString::fromStdString(options.sceneFile), "--port", "0", "--quit-after",
+                  QString::number(duration + 30)});
+    if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000))
+        throw std::runtime_error("vssim serve did not start");
+    const QString line = QString::fromUtf8(server.readLine()).trimmed();  // "listening on 127.0.0.1:PORT"
+    const quint16 port = static_cast<quint16>(line.section(':', -1).toUInt());
+    if (port == 0) throw std::runtime_error("unexpected first line from vssim serve: " + line.toStdString());
+
+    std::vector<Observer> observers;
+    for (const char* images : {"patches", "full"}) {
+        for (const char* encoding : {"raw", "png", "jpeg"}) {
+            if (!allSubscriptions && !(QString(images) == "patches" && QString(encoding) == "png")) continue;
+            Observer o;
+            o.name = QStringLiteral("%1/%2%3").arg(images, encoding, QString(encoding) == "jpeg" ? "90" : "");
+            o.client = std::make_unique<ProtocolClient>();
+            if (!o.client->connectTo(port) ||
+                !o.client->hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", images},
+                                             {"encoding", encoding}, {"jpeg_quality", 90}}))
+                throw std::runtime_error("observer " + o.name.toStdString() + " could not connect");
+            observers.push_back(std::move(o));
+        }
+    }
+    ProtocolClient team;
+    const std::optional<QJsonObject> welcome =
+        team.connectTo(port) ? team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", "none"}}) : std::nullopt;
+    if (!welcome) throw std::runtime_error("the team client could not connect");
+    std::vector<int> robots;
+    for (const QJsonValue& r : (*welcome)["robots"].toArray())
+        if (r["team"].toString() == "yellow") robots.push_back(r["index"].toInt());
+
+    QRandomGenerator random(7);
+    QElapsedTimer wall;
+    wall.start();
+    qint64 nextCommandMs = 0;
+    std::int64_t commands = 0;
+    while (wall.elapsed() < duration * 1000) {
+        if (wall.elapsed() >= nextCommandMs) {
+            std::vector<std::pair<int, Voltages>> entries;
+            for (int r : robots) entries.push_back({r, {random.bounded(14.8) - 7.4, random.bounded(14.8) - 7.4}});
+            team.send(protocol::MessageType::Voltages, protocol::encodeVoltages(entries));
+            ++commands;
+            nextCommandMs += 7;
+        }
+        QCoreApplication::processEvents(QEventLoop::AllEvents, 2);
+        for (Observer& o : observers) {
+            while (auto r = o.client->poll()) {
+                if (r->message.type != static_cast<std::uint8_t>(protocol::MessageType::Frame)) continue;
+                protocol::FrameHeader header;
+                std::vector<protocol::FramePatch> patches;
+                QString error;
+                if (!protocol::decodeFrame(r->message.payload, &header, &patches, &error))
+                    throw std::runtime_error(error.toStdString());
+                if (header.kind == protocol::FrameKind::Background) continue;
+                if (o.lastNs >= 0) o.periodMs.add(1e-6 * static_cast<double>(r->arrivalNs - o.lastNs));
+                if (o.lastFrame >= 0 && header.frame != o.lastFrame + 1) ++o.gaps;
+                o.lastNs = r->arrivalNs;
+                o.lastFrame = header.frame;
+                ++o.frames;
+            }
+        }
+    }
+    team.sendJson(protocol::MessageType::Control, QJsonObject{{"command", "stats"}});
+    const auto reply = team.nextOf(protocol::MessageType::Reply, 10000);
+    if (!reply) throw std::runtime_error("no reply to CONTROL stats");
+    const QJsonObject stats = jsonPayload(reply->message)["stats"].toObject();
+    server.terminate();
+    server.waitForFinished(5000);
+
+    row(out, scenario, "server", "command_latency_ms", "", stats["command_latency_ms"].toObject());
+    row(out, scenario, "server", "command_delay_ms", "", stats["command_delay_ms"].toObject());
+    row(out, scenario, "server", "frame_period_ms", "", stats["frame_period_ms"].toObject());
+    row(out, scenario, "server", "render_ms", "", stats["render_ms"].toObject());
+    const QJsonObject encode = stats["encode_ms"].toObject(), bytes = stats["frame_bytes"].toObject();
+    for (auto it = encode.begin(); it != encode.end(); ++it) row(out, scenario, "server", "encode_ms", it.key(), it.value().toObject());
+    for (auto it = bytes.begin(); it != bytes.end(); ++it) row(out, scenario, "server", "frame_bytes", it.key(), it.value().toObject());
+    for (const Observer& o : observers) row(out, scenario, "client", "frame_period_ms", o.name, toJson(o.periodMs.summary()));
+
+    const QJsonObject latency = stats["command_latency_ms"].toObject(), period = stats["frame_period_ms"].toObject();
+    log << "  " << scenario << ": " << duration << " s, " << commands << " commands, late " << stats["late_commands"].toInt() << "\n"
+        << "  command latency (arrival -> applied): median " << latency["median"].toDouble() << " ms, p99 "
+        << latency["p99"].toDouble() << " ms, max " << latency["max"].toDouble() << " ms\n"
+        << "  image period at the engine: median " << period["median"].toDouble() << " ms, stddev "
+        << period["stddev"].toDouble() << " ms, max " << period["max"].toDouble() << " ms\n"
+        << "  render median " << stats["render_ms"].toObject()["median"].toDouble() << " ms\n";
+    for (const Observer& o : observers) {
+        const SampleSummary s = o.periodMs.summary();
+        const QJsonObject b = bytes[o.name].toObject(), e = encode[o.name].toObject();
+        log << "  " << std::setw(14) << o.name.toStdString() << ": " << std::setw(8) << b["median"].toDouble()
+            << " bytes/frame, encode " << std::setw(7) << e["median"].toDouble() << " ms; received " << o.frames
+            << " frames, " << o.gaps << " gaps, period median " << s.median << " ms, stddev " << s.stddev
+            << " ms, max " << s.max << " ms\n";
+    }
+}
+
+}  // namespace
+
+int serveLatency(const Options& options, std::ostream& out, std::ostream& log) {
+    out << "scenario,source,metric,subscription,count,median,p99,max,mean,stddev\n" << std::setprecision(6);
+    runScenario(options, "typical", false, out, log);
+    runScenario(options, "six subscriptions", true, out, log);
+    return 0;
+}
+
+}  // namespace vssim::bench
