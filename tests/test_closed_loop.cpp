@@ -1,0 +1,164 @@
+// The closed loop, end to end, as a team would run it: `vssim serve` in its
+// own process, an example client (examples/) that sees only camera images
+// and sends only voltages, and this test as an observer reading the ground
+// truth (STATE) to check that the client's robot really reaches the ball.
+// Also `vssim serve`'s command line: errors, --help, the address it prints.
+#include <QProcess>
+#include <QtTest>
+#include <cmath>
+
+#include "protocol_client.h"
+#include "run_vssim.h"
+
+using namespace vssim;
+
+namespace {
+
+// A `vssim serve` process; port() is the one it printed.
+struct ServeProcess {
+    QProcess process;
+    quint16 port = 0;
+    QString firstLine;
+    explicit ServeProcess(const QStringList& args) {
+        process.start(VSSIM_BINARY, QStringList{"serve"} + args + QStringList{"--port", "0", "--quit-after", "120"});
+        if (process.waitForStarted(5000) && process.waitForReadyRead(10000)) {
+            firstLine = QString::fromUtf8(process.readLine()).trimmed();
+            port = static_cast<quint16>(firstLine.section(':', -1).toUInt());
+        }
+    }
+    ~ServeProcess() {
+        process.terminate();
+        if (!process.waitForFinished(5000)) process.kill();
+    }
+};
+
+}  // namespace
+
+class TestClosedLoop : public QObject {
+    Q_OBJECT
+private slots:
+    void clientDrivesToTheBallFromImagesOnly_data() {
+        QTest::addColumn<QString>("program");
+        QTest::addColumn<QStringList>("clientArgs");
+        QTest::addColumn<bool>("lockstep");
+        QTest::addColumn<double>("ballX");  // m: where the ball is put first, off the robot's axis
+        QTest::addColumn<double>("ballY");
+        const QString python = QStringLiteral(VSSIM_SOURCE_DIR "/examples/python/vssim_client.py");
+        QTest::newRow("python, lockstep, png") << QString("/usr/bin/python3") << QStringList{python, "--lockstep"} << true << -0.2 << 0.45;
+        QTest::newRow("C++, lockstep, jpeg") << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--lockstep", "--encoding", "jpeg"} << true << 0.4 << -0.5;
+        QTest::newRow("C++, blue 0, real time, raw") << QString(VSSIM_EXAMPLE_CLIENT)
+                                                     << QStringList{"--team", "blue", "--robot", "0", "--encoding", "raw"} << false << 0.55 << 0.5;
+    }
+
+    void clientDrivesToTheBallFromImagesOnly() {
+        QFETCH(QString, program);
+        QFETCH(QStringList, clientArgs);
+        QFETCH(bool, lockstep);
+        QFETCH(double, ballX);
+        QFETCH(double, ballY);
+        ServeProcess serve(lockstep ? QStringList{"kickoff_3v3", "--lockstep"} : QStringList{"kickoff_3v3"});
+        QVERIFY2(serve.port != 0, qPrintable("vssim serve printed: " + serve.firstLine));
+
+        ProtocolClient observer;
+        QVERIFY(observer.connectTo(serve.port));
+        const auto welcome = observer.hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", "none"}, {"state", true}});
+        QVERIFY(welcome);
+        observer.sendJson(protocol::MessageType::Control, QJsonObject{{"command", "place_ball"}, {"x", ballX}, {"y", ballY}});
+        const auto placed = observer.nextOf(protocol::MessageType::Reply);
+        QVERIFY(placed && jsonPayload(placed->message)["ok"].toBool());
+        // Which robot the client drives: its team and identity id. (In the
+        // kick-off scene, yellow0 and blue0 have no scheduled commands: only
+        // the client moves them.)
+        const QString team = clientArgs.contains("blue") ? "blue" : "yellow";
+        const int id = clientArgs.contains("--robot") ? clientArgs[clientArgs.indexOf("--robot") + 1].toInt() : 0;
+        int robot = -1;
+        double side = 0;
+        for (const QJsonValue& r : (*welcome)["robots"].toArray()) {
+            if (r["team"].toString() == team && r["id"].toInt() == id) {
+                robot = r["index"].toInt();
+                side = r["side"].toDouble();
+            }
+        }
+        QVERIFY(robot >= 0);
+        const double reach = 0.5 * side + (*welcome)["ball"].toObject()["radius"].toDouble();
+
+        QProcess client;
+        client.setProcessChannelMode(QProcess::MergedChannels);
+        client.start(program, clientArgs + QStringList{"--port", QString::number(serve.port), "--max-time", "20"});
+        QVERIFY2(client.waitForStarted(10000), qPrintable(program + ": " + client.errorString()));
+
+        // Follow the ground truth until the client exits.
+        double closest = 1e9, last = 1e9, startDistance = -1, lastTime = 0;
+        QElapsedTimer wall;
+        wall.start();
+        // (After it exits, the states already sent are still read: 300 ms more.)
+        qint64 drainUntil = -1;
+        while (wall.elapsed() < 90000 && (drainUntil < 0 || wall.elapsed() < drainUntil)) {
+            if (drainUntil < 0 && client.state() == QProcess::NotRunning) drainUntil = wall.elapsed() + 300;
+            while (auto m = observer.next(20)) {
+                if (m->message.type != std::uint8_t(protocol::MessageType::State)) continue;
+                const QJsonObject state = jsonPayload(m->message);
+                const QJsonObject r = state["robots"].toArray()[robot].toObject();
+                const QJsonObject ball = state["ball"].toObject();
+                last = std::hypot(r["x"].toDouble() - ball["x"].toDouble(), r["y"].toDouble() - ball["y"].toDouble());
+                if (startDistance < 0) startDistance = last;
+                closest = std::min(closest, last);
+                lastTime = state["time"].toDouble();
+            }
+            client.waitForFinished(10);
+        }
+        const QString output = QString::fromUtf8(client.readAll());
+        QVERIFY2(client.state() == QProcess::NotRunning, "the client did not finish within 90 s");
+        QVERIFY2(client.exitStatus() == QProcess::NormalExit && client.exitCode() == 0, qPrintable(output));
+        QVERIFY2(output.contains("reached the ball"), qPrintable(output));
+        // The ground truth agrees: it started well away and ended touching
+        // distance (within the client's 1.5 cm tolerance and its image error).
+        QVERIFY2(startDistance > reach + 0.1, qPrintable(QString::number(startDistance)));
+        QVERIFY2(closest < reach + 0.02, qPrintable(QString("closest %1 m, reach %2 m; client said: %3").arg(closest).arg(reach).arg(output)));
+        QVERIFY(lastTime > 0.1);
+        qInfo("%s: from %.3f m to %.3f m (contact at %.3f m) by t = %.2f s; client: %s", QTest::currentDataTag(),
+              startDistance, closest, reach, lastTime, qPrintable(output.trimmed().section('\n', -1)));
+    }
+
+    void serveCommandLine() {
+        using test::runVssim;
+        const test::Result help = runVssim({"serve", "--help"});
+        QCOMPARE(help.exitCode, 0);
+        QVERIFY(help.out.contains("--lockstep") && help.out.contains("docs/protocol.md"));
+        const struct {
+            QStringList args;
+            const char* says;
+        } bad[] = {
+            {{"serve"}, "a scene is required"},
+            {{"serve", "no_such_scene"}, "no scene file or built-in scene"},
+            {{"serve", "kickoff_3v3", "--port", "70000"}, "--port"},
+            {{"serve", "kickoff_3v3", "--port", "x"}, "--port"},
+            {{"serve", "kickoff_3v3", "--listen", "localhost:1"}, "--listen"},
+            {{"serve", "kickoff_3v3", "--speed", "0"}, "--speed"},
+            {{"serve", "kickoff_3v3", "--speed", "nan"}, "--speed"},
+            {{"serve", "kickoff_3v3", "--speed", "2", "--lockstep"}, "exclude"},
+            {{"serve", "kickoff_3v3", "--hello-timeout", "-1"}, "--hello-timeout"},
+            {{"serve", "kickoff_3v3", "--bogus"}, "bogus"},
+            {{"serve", "a", "b"}, "one scene only"},
+        };
+        for (const auto& b : bad) {
+            const test::Result r = runVssim(b.args);
+            QVERIFY2(r.exitCode == 2, qPrintable(b.args.join(' ') + ": exit " + QString::number(r.exitCode)));
+            QVERIFY2(r.err.contains(b.says), qPrintable(b.args.join(' ') + ": " + r.err));
+        }
+        // A port in use: exit 1 with the reason.
+        ServeProcess first({"kickoff_3v3", "--lockstep"});
+        QVERIFY(first.port != 0);
+        QCOMPARE(first.firstLine, QString("listening on 127.0.0.1:%1").arg(first.port));
+        const test::Result busy = runVssim({"serve", "kickoff_3v3", "--port", QString::number(first.port)});
+        QCOMPARE(busy.exitCode, 1);
+        QVERIFY2(busy.err.contains("cannot listen"), busy.err.constData());
+        // --quit-after ends a server cleanly.
+        const test::Result quits = runVssim({"serve", "kickoff_3v3", "--port", "0", "--quit-after", "0.3"});
+        QCOMPARE(quits.exitCode, 0);
+        QVERIFY(quits.out.startsWith("listening on 127.0.0.1:"));
+    }
+};
+
+QTEST_GUILESS_MAIN(TestClosedLoop)
+#include "test_closed_loop.moc"
