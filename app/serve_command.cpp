@@ -45,6 +45,8 @@ QString serveHelpText() {
         "  --speed X|max        simulated seconds per wall second (default 1), or as fast as possible\n"
         "  --lockstep           time advances only when a client sends CONTROL step\n"
         "  --paused             start paused (CONTROL resume or step)\n"
+        "  --scene-commands     also apply the scene's own voltage commands (by default only the\n"
+        "                       clients drive the robots)\n"
         "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
         "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
         "  -h, --help           this help\n"
@@ -66,7 +68,8 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption paused("paused", "paused");
     const QCommandLineOption helloTimeout("hello-timeout", "s", "S");
     const QCommandLineOption quitAfter("quit-after", "s", "S");
-    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter});
+    const QCommandLineOption sceneCommands("scene-commands", "scene commands");
+    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -131,11 +134,13 @@ int serveCommand(const QStringList& arguments) {
         return usage(QStringLiteral("no scene file or built-in scene \"%1\" (built in: %2)")
                          .arg(sceneArgument, builtinSceneNames().join(", ")));
     QString error;
-    const std::optional<Scene> scene = loadSceneFile(scenePath, &error);
+    std::optional<Scene> scene = loadSceneFile(scenePath, &error);
     if (!scene) {
         err() << "vssim serve: " << error << "\n";
         return 2;
     }
+    const std::size_t scheduled = scene->commands.size();
+    if (!parser.isSet(sceneCommands)) scene->commands.clear();
     if (scene->robots.size() > 255) {
         err() << "vssim serve: " << scenePath << ": " << scene->robots.size()
               << " robots; the protocol addresses at most 255 (robot indices are one byte)\n";
@@ -162,12 +167,14 @@ int serveCommand(const QStringList& arguments) {
     QTextStream out(stdout);
     out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
     out.flush();
-    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s")
+    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6")
             .arg(scenePath)
             .arg(scene->robots.size())
             .arg(runModeName(loop.mode))
             .arg(loop.mode == RunMode::Realtime ? QStringLiteral(" x%1").arg(loop.speed) : QString())
-            .arg(scene->simulation.dt));
+            .arg(scene->simulation.dt)
+            .arg(parser.isSet(sceneCommands) ? QStringLiteral("%1 scene commands applied").arg(scheduled)
+                                             : QStringLiteral("%1 scene commands ignored (--scene-commands applies them)").arg(scheduled)));
 
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);

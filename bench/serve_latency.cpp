@@ -119,6 +119,7 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
     row(out, scenario, "server", "command_delay_ms", "", stats["command_delay_ms"].toObject());
     row(out, scenario, "server", "frame_period_ms", "", stats["frame_period_ms"].toObject());
     row(out, scenario, "server", "render_ms", "", stats["render_ms"].toObject());
+    row(out, scenario, "server", "patch_area_percent", "", stats["patch_area_percent"].toObject());
     const QJsonObject encode = stats["encode_ms"].toObject(), bytes = stats["frame_bytes"].toObject();
     for (auto it = encode.begin(); it != encode.end(); ++it) row(out, scenario, "server", "encode_ms", it.key(), it.value().toObject());
     for (auto it = bytes.begin(); it != bytes.end(); ++it) row(out, scenario, "server", "frame_bytes", it.key(), it.value().toObject());
@@ -130,7 +131,8 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
         << latency["p99"].toDouble() << " ms, max " << latency["max"].toDouble() << " ms\n"
         << "  image period at the engine: median " << period["median"].toDouble() << " ms, stddev "
         << period["stddev"].toDouble() << " ms, max " << period["max"].toDouble() << " ms\n"
-        << "  render median " << stats["render_ms"].toObject()["median"].toDouble() << " ms\n";
+        << "  render median " << stats["render_ms"].toObject()["median"].toDouble() << " ms; patches cover "
+        << stats["patch_area_percent"].toObject()["median"].toDouble() << " % of the image (median)\n";
     for (const Observer& o : observers) {
         const SampleSummary s = o.periodMs.summary();
         const QJsonObject b = bytes[o.name].toObject(), e = encode[o.name].toObject();

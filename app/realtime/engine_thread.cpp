@@ -146,6 +146,9 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
         const std::int64_t startNs = monotonicNs();
         renderer_.render(sim.state(), job.image, job.patches);  // a new image each time: the encoder owns it
         renderMs_.add(1e-6 * static_cast<double>(monotonicNs() - startNs));
+        double area = 0.0;
+        for (const cv::Rect& r : job.patches) area += r.area();
+        patchPercent_.add(100.0 * area / (static_cast<double>(job.image.cols) * job.image.rows));
     }
     if (stateWanted) job.state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame));
     encoder_->submit(std::move(job));
@@ -157,6 +160,7 @@ void EngineThread::reply(const EngineReply& reply) {
     if (reply.command == QLatin1String("stats") && reply.ok) {
         job.reply->extra["frame_period_ms"] = toJson(framePeriodMs_.summary());
         job.reply->extra["render_ms"] = toJson(renderMs_.summary());
+        job.reply->extra["patch_area_percent"] = toJson(patchPercent_.summary());
         job.reply->extra["frames_skipped"] = static_cast<double>(framesSkipped_);
     }
     // Through the encoder, to stay in order with the frames before it.

@@ -76,6 +76,7 @@ private:
     // Engine-thread only.
     std::int64_t lastInstantNs_ = -1;
     SampleStats framePeriodMs_, renderMs_;
+    SampleStats patchPercent_;  // the patches' total area, % of the image
     std::int64_t framesSkipped_ = 0;     // max mode: instants not rendered, the previous frame being still on its way
     std::int64_t framesDropped_ = 0;     // dropped from a full outbox (a stalled reader); push() only, on the encoder thread
     const EngineLoop* loop_ = nullptr;   // while run() runs
