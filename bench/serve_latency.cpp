@@ -20,6 +20,7 @@
 
 #include "benchmarks.h"
 #include "protocol_client.h"
+#include "monotonic_clock.h"
 #include "sample_stats.h"
 
 namespace vssim::bench {
@@ -145,10 +146,64 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
 
 }  // namespace
 
+// Lockstep: one team client taking PNG patches and the ground truth, sending
+// voltages and a 30 ms step, waiting for the REPLY, again and again: how
+// fast a learning or testing loop can go, images included.
+void runLockstep(const Options& options, const char* images, std::ostream& out, std::ostream& log) {
+    const double duration = options.quick ? 2.0 : 20.0;  // wall seconds
+    QProcess server;
+    server.setProcessChannelMode(QProcess::ForwardedErrorChannel);
+    server.start(QStringLiteral(VSSIM_BINARY), {"serve", QString::fromStdString(options.sceneFile), "--lockstep", "--port",
+                                                "0", "--quit-after", QString::number(duration + 30)});
+    if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000)) throw std::runtime_error("vssim serve did not start");
+    const quint16 port = static_cast<quint16>(QString::fromUtf8(server.readLine()).trimmed().section(':', -1).toUInt());
+    ProtocolClient team;
+    const std::optional<QJsonObject> welcome =
+        team.connectTo(port) ? team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", images}, {"state", true}}) : std::nullopt;
+    const bool withImages = QString(images) != "none";
+    if (!welcome || (withImages && !team.nextOf(protocol::MessageType::Frame))) throw std::runtime_error("lockstep client could not connect");
+    QRandomGenerator random(11);
+    SampleStats roundTripMs;
+    QElapsedTimer wall;
+    wall.start();
+    std::int64_t steps = 0, frames = 0;
+    double simulated = 0;
+    while (wall.elapsed() < duration * 1000) {
+        std::vector<std::pair<int, Voltages>> entries;
+        for (int r = 0; r < 3; ++r) entries.push_back({r, {random.bounded(14.8) - 7.4, random.bounded(14.8) - 7.4}});
+        const std::int64_t startNs = monotonicNs();
+        team.send(protocol::MessageType::Voltages, protocol::encodeVoltages(entries));
+        team.sendJson(protocol::MessageType::Control, QJsonObject{{"command", "step"}, {"duration", 0.03}});
+        for (;;) {
+            const auto r = team.next(10000);
+            if (!r) throw std::runtime_error("lockstep: no reply");
+            if (r->message.type == static_cast<std::uint8_t>(protocol::MessageType::Frame)) ++frames;
+            if (r->message.type == static_cast<std::uint8_t>(protocol::MessageType::Reply)) {
+                simulated = jsonPayload(r->message)["time"].toDouble();
+                break;
+            }
+        }
+        roundTripMs.add(1e-6 * static_cast<double>(monotonicNs() - startNs));
+        ++steps;
+    }
+    const double seconds = 1e-3 * static_cast<double>(wall.elapsed());
+    server.terminate();
+    server.waitForFinished(5000);
+    const QString subscription = withImages ? QStringLiteral("patches/png") : QStringLiteral("none");
+    row(out, "lockstep", "client", "step_round_trip_ms", subscription, toJson(roundTripMs.summary()));
+    out << "\"lockstep\",client,realtime_factor," << subscription.toStdString() << ",1," << simulated / seconds << ",,,,\n";
+    log << "  lockstep: " << steps << " steps of 30 ms with voltages, " << (withImages ? "PNG patches" : "no images")
+        << " and the ground truth in " << seconds
+        << " s: " << steps / seconds << " steps/s, " << simulated / seconds << "x real time; round trip median "
+        << roundTripMs.summary().median << " ms (" << frames << " frames)\n";
+}
+
 int serveLatency(const Options& options, std::ostream& out, std::ostream& log) {
     out << "scenario,source,metric,subscription,count,median,p99,max,mean,stddev\n" << std::setprecision(6);
     runScenario(options, "typical", false, out, log);
     runScenario(options, "six subscriptions", true, out, log);
+    runLockstep(options, "patches", out, log);
+    runLockstep(options, "none", out, log);
     return 0;
 }
 

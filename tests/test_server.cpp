@@ -423,6 +423,28 @@ private slots:
         QVERIFY(join(served.port(), helloJson("yellow", "none")));
     }
 
+    void nothingIsRenderedWithoutImageSubscribers() {
+        Served served(kickoff(), RunMode::Realtime);
+        auto states = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(states);
+        QSignalSpy log(served.server.get(), &ControlServer::logLine);
+        // A quarter of a second of real time: several camera instants, each
+        // with a STATE but no image.
+        for (int n = 0; n < 3; ++n) QVERIFY(states->nextOf(MessageType::State, 2000));
+        auto stats = [&](ProtocolClient& c) {
+            c.sendJson(MessageType::Control, controlJson("stats"));
+            const auto r = c.nextOf(MessageType::Reply);
+            return r ? jsonPayload(r->message)["stats"].toObject() : QJsonObject();
+        };
+        QCOMPARE(stats(*states)["render_ms"].toObject()["count"].toInt(), 0);
+        // Once someone asks for images, instants are rendered.
+        auto images = join(served.port(), helloJson("observer", "patches", "png"));
+        QVERIFY(images);
+        QVERIFY(images->nextOf(MessageType::Frame, 2000));
+        QVERIFY(stats(*images)["render_ms"].toObject()["count"].toInt() > 0);
+        QVERIFY(log.count() >= 2);  // the new client's "connected" and "HELLO" lines
+    }
+
     void realtimeCommandsActAtArrival() {
         // In real time, a command acts at the first step boundary after it
         // arrived: the simulated delay is below one step (dt = 1 ms), not the

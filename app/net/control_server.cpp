@@ -61,6 +61,8 @@ void ControlServer::accept() {
         auto client = std::make_unique<Client>();
         client->id = nextId_++;
         client->socket = socket;
+        // Small messages (replies, STATE) go out at once: no Nagle delay.
+        socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
         client->peer = QStringLiteral("%1:%2").arg(socket->peerAddress().toString()).arg(socket->peerPort());
         Client& c = *client;
         const int id = c.id;

@@ -21,7 +21,9 @@ bool ProtocolClient::connectTo(quint16 port, const QString& host, int timeoutMs)
     connect(&socket_, &QTcpSocket::errorOccurred, &loop, &QEventLoop::quit);
     QTimer::singleShot(timeoutMs, &loop, &QEventLoop::quit);
     if (socket_.state() != QAbstractSocket::ConnectedState) loop.exec();
-    return socket_.state() == QAbstractSocket::ConnectedState;
+    if (socket_.state() != QAbstractSocket::ConnectedState) return false;
+    socket_.setSocketOption(QAbstractSocket::LowDelayOption, 1);  // no Nagle delay on small messages
+    return true;
 }
 
 void ProtocolClient::send(protocol::MessageType type, const QByteArray& payload) {
