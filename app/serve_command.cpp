@@ -12,6 +12,7 @@
 
 #include "control_server.h"
 #include "engine_thread.h"
+#include "monotonic_clock.h"
 #include "run_command.h"
 #include "scene_io.h"
 
@@ -42,7 +43,8 @@ QString serveHelpText() {
         "  --port N             TCP port (default %1; 0: any free port)\n"
         "  --listen ADDR        address to listen on (default 127.0.0.1; 0.0.0.0: every interface,\n"
         "                       with no authentication: only on a network you trust)\n"
-        "  --speed X|max        simulated seconds per wall second (default 1), or as fast as possible\n"
+        "  --speed X|max        simulated seconds per wall second, 0.001 to 100 (default 1), or max:\n"
+        "                       as fast as possible\n"
         "  --lockstep           time advances only when a client sends CONTROL step\n"
         "  --paused             start paused (CONTROL resume or step)\n"
         "  --scene-commands     also apply the scene's own voltage commands (by default only the\n"
@@ -112,10 +114,11 @@ int serveCommand(const QStringList& arguments) {
         const double value = text.toDouble(&ok);
         if (text == "max") {
             loop.mode = RunMode::Max;
-        } else if (ok && std::isfinite(value) && value > 0 && value <= 1e6) {
+        } else if (ok && value >= kMinSpeed && value <= kMaxSpeed) {
             loop.speed = value;
         } else {
-            return usage(QStringLiteral("--speed: expected a factor > 0 (1 = real time) or \"max\", got \"%1\"").arg(text));
+            return usage(QStringLiteral("--speed: expected a factor from %1 to %2 (1 = real time) or \"max\", got \"%3\"")
+                             .arg(kMinSpeed).arg(kMaxSpeed).arg(text));
         }
     }
     if (parser.isSet(lockstep)) {
@@ -161,6 +164,7 @@ int serveCommand(const QStringList& arguments) {
     if (parser.isSet(paused)) {
         EngineRequest pause;
         pause.kind = EngineRequest::Kind::Pause;
+        pause.arrivalNs = monotonicNs();
         engine.post(pause);
     }
     engine.start();

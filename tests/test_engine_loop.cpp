@@ -258,9 +258,64 @@ private slots:
         loop.start(0);
         loop.runUntil(10'000 * kMs);  // 10 s late: as if the machine had stalled
         QCOMPARE(loop.stats().lagResets, 1);
-        QCOMPARE(loop.simulation().state().step, 500);
+        QCOMPARE(loop.simulation().state().step, 0);  // the lag is dropped, not simulated
         // Re-anchored: the next image is one frame period after now.
-        QCOMPARE(loop.nextWakeNs(), 10'000 * kMs + 10 * kMs);
+        QCOMPARE(loop.nextWakeNs(), 10'000 * kMs + 30 * kMs);
+        // A request after a stall is held to the same rule.
+        loop.handle(voltages(20'000 * kMs, 0, 1.0, 1.0), 20'000 * kMs);
+        QCOMPARE(loop.stats().lagResets, 2);
+        QCOMPARE(loop.simulation().state().step, 0);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 1.0);
+    }
+
+    void catchingUpIsDoneInSlices() {
+        // Behind by less than maxLag: runUntil simulates at most
+        // kMaxFramesPerPass frame periods per call, so requests get read in
+        // between; the next calls catch up.
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.runUntil(300 * kMs);
+        QCOMPARE(loop.simulation().state().step, kMaxFramesPerPass * 30);
+        QVERIFY(loop.nextWakeNs() < 300 * kMs);  // more to do at once
+        loop.runUntil(300 * kMs);
+        loop.runUntil(300 * kMs);
+        QCOMPARE(loop.simulation().state().step, 300);
+        QCOMPARE(loop.stats().lagResets, 0);
+    }
+
+    void clockRestartsAtTheRequestsArrival() {
+        // A resume, speed change or reset handled later than it arrived
+        // counts time from its arrival.
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        EngineRequest same = control(EngineRequest::Kind::Speed, 30 * kMs);
+        same.speed = 1.0;
+        loop.handle(same, 80 * kMs);
+        loop.runUntil(100 * kMs);
+        QCOMPARE(loop.simulation().state().step, 100);
+        loop.handle(control(EngineRequest::Kind::Pause, 100 * kMs), 100 * kMs);
+        loop.handle(control(EngineRequest::Kind::Resume, 500 * kMs), 540 * kMs);
+        loop.handle(voltages(510 * kMs, 0, 2.0, 2.0), 540 * kMs);  // 10 ms after the resume
+        QCOMPARE(loop.stats().lateCommands, 0);
+        QCOMPARE(loop.simulation().state().step, 110);
+        loop.handle(control(EngineRequest::Kind::Reset, 600 * kMs), 650 * kMs);
+        loop.runUntil(650 * kMs);
+        QCOMPARE(loop.simulation().state().step, 50);
+    }
+
+    void tinySpeedDoesNotOverflowTheWakeTime() {
+        EngineLoopSettings settings;
+        settings.speed = 1e-13;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(1000 * kMs);
+        QCOMPARE(loop.nextWakeNs(), std::numeric_limits<std::int64_t>::max());
+        settings.speed = kMinSpeed;
+        EngineLoop slow(twoRobots(), settings, sink);
+        slow.start(0);
+        QCOMPARE(slow.nextWakeNs(), 30'000 * kMs);  // 30 ms of simulated time take 30 s
     }
 
     void statsReply() {

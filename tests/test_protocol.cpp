@@ -639,6 +639,11 @@ void TestProtocol::controlErrors_data() {
     row("speed -1", R"({"command": "speed", "speed": -1})", "malformed", "speed");
     row("speed fast", R"({"command": "speed", "speed": "fast"})", "malformed", "speed");
     row("speed 2e6", R"({"command": "speed", "speed": 2e6})", "malformed", "speed");
+    row("speed 101", R"({"command": "speed", "speed": 101})", "malformed", "100");
+    row("speed 0.0005", R"({"command": "speed", "speed": 0.0005})", "malformed", "0.001");
+    row("robot v 11", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "v": 11})", "malformed", "10 m/s");
+    row("robot omega -101", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "omega": -101})", "malformed", "100 rad/s");
+    row("ball 20.1 m/s", R"({"command": "place_ball", "x": 0, "y": 0, "vx": 12, "vy": 16.1})", "malformed", "20 m/s");
     row("speed missing", R"({"command": "speed"})", "malformed", "speed");
 }
 

@@ -218,7 +218,10 @@ private slots:
         const double t1 = control("stats")["time"].toDouble();
         QVERIFY2(t1 - t0 > 0.3, qPrintable(QString("x3 for 0.3 s advanced %1 s").arg(t1 - t0)));
         QCOMPARE(control("speed", {{"speed", "max"}})["ok"].toBool(), true);
-        QCOMPARE(control("reset")["frame"].toInt() >= 0, true);
+        const QJsonObject reset = control("reset");
+        QCOMPARE(reset["ok"].toBool(), true);
+        QCOMPARE(reset["frame"].toInt(), 0);
+        QCOMPARE(reset["time"].toDouble(), 0.0);
         QCOMPARE(control("step", {{"duration", 0.03}})["error"].toString(), QString("not_paused"));
         QCOMPARE(control("warp")["error"].toString(), QString("unknown_command"));
         QCOMPARE(control("place_robot", {{"robot", 0}, {"x", 0.9}, {"y", 0.0}, {"theta", 0.0}})["error"].toString(),
@@ -423,6 +426,81 @@ private slots:
         QVERIFY(join(served.port(), helloJson("yellow", "none")));
     }
 
+    void repliesNeverOvertakeTheirFrames() {
+        // A lockstep client asks for 20 steps before reading anything, with
+        // full raw frames (0.9 MB each): frames are dropped for it, but a
+        // FRAME is never sent after the REPLY of a later step.
+        Served served(kickoff(), RunMode::Lockstep);
+        auto client = join(served.port(), helloJson("yellow", "full", "raw"));
+        QVERIFY(client);
+        client->setReading(false);
+        for (int n = 1; n <= 20; ++n) client->sendJson(MessageType::Control, controlJson("step", {{"duration", 0.03}}, n));
+        QTest::qWait(500);
+        client->setReading(true);
+        std::int64_t lastReplied = 0, lastFrame = 0, replies = 0, frames = 0;
+        while (replies < 20) {
+            const auto r = client->next(5000);
+            QVERIFY(r);
+            if (r->message.type == std::uint8_t(MessageType::Frame)) {
+                const Frame f = decode(r->message);
+                QVERIFY2(std::int64_t(f.header.frame) > lastReplied,
+                         qPrintable(QString("FRAME %1 after the REPLY of step %2").arg(f.header.frame).arg(lastReplied)));
+                lastFrame = f.header.frame;
+                ++frames;
+            } else if (r->message.type == std::uint8_t(MessageType::Reply)) {
+                lastReplied = jsonPayload(r->message)["frame"].toInt();
+                ++replies;
+            }
+        }
+        QCOMPARE(lastReplied, 20);
+        QCOMPARE(lastFrame, 20);  // the newest frame is never lost
+        QVERIFY(frames >= 2);
+    }
+
+    void aDroppedTeamClientDoesNotStopItsSuccessor() {
+        Served served(kickoff(), RunMode::Lockstep);
+        auto watcher = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(watcher);
+        ProtocolClient first;
+        QVERIFY(first.connectTo(served.port()));
+        QVERIFY(first.hello(helloJson("yellow", "none")));
+        first.setReading(false);
+        QByteArray oversize(4, '\0');
+        oversize[1] = 0x02;  // length 131,072: fatal
+        first.sendRaw(oversize);
+        QTRY_VERIFY(served.log.filter("oversize").size() >= 1);
+        // The role is free at once; the first client's socket closes later.
+        auto second = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(second);
+        second->send(MessageType::Voltages, protocol::encodeVoltages({{0, {5.0, 5.0}}}));
+        second->sendJson(MessageType::Control, controlJson("stats"));
+        QVERIFY(second->nextOf(MessageType::Reply));
+        QTRY_VERIFY_WITH_TIMEOUT(first.socket().state() == QAbstractSocket::UnconnectedState ||
+                                     served.log.filter("disconnected").size() >= 1, 5000);
+        QTest::qWait(200);
+        std::vector<protocol::Message> before;
+        QVERIFY(step(*watcher, 0.03, &before)["ok"].toBool());
+        QCOMPARE(jsonPayload(before.back())["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 5.0);
+    }
+
+    void aFloodingClientGetsBusyAndOthersCarryOn() {
+        Served served(kickoff(), RunMode::Realtime);
+        auto flooder = join(served.port(), helloJson("yellow", "none"));
+        auto other = join(served.port(), helloJson("blue", "none", "png", true));
+        QVERIFY(flooder && other);
+        QByteArray burst;
+        for (int i = 0; i < 3000; ++i) burst += protocol::encodeJsonMessage(MessageType::Control, controlJson("stats", {}, i));
+        flooder->sendRaw(burst);
+        QVERIFY(!expectError(*flooder, "busy").isEmpty());
+        // The other client's requests still go through, promptly.
+        other->send(MessageType::Voltages, protocol::encodeVoltages({{3, {2.0, 2.0}}}));
+        QVERIFY(other->nextOf(MessageType::State, 2000));
+        other->sendJson(MessageType::Control, controlJson("pause", {}, 5));
+        const auto reply = other->nextOf(MessageType::Reply, 5000);
+        QVERIFY(reply);
+        QCOMPARE(jsonPayload(reply->message)["id"].toInt(), 5);
+    }
+
     void nothingIsRenderedWithoutImageSubscribers() {
         Served served(kickoff(), RunMode::Realtime);
         auto states = join(served.port(), helloJson("observer", "none", "png", true));
@@ -496,7 +574,9 @@ private slots:
         }
         QVERIFY2(frames.size() >= 25, qPrintable(QString::number(frames.size())));
         for (std::size_t i = 1; i < frames.size(); ++i) QCOMPARE(frames[i], frames[i - 1] + 1);
-        QVERIFY2(lastTime - firstTime > 1.0, qPrintable(QString::number(lastTime - firstTime)));
+        // Simulated time kept pace with the frames' arrival (loosely: a
+        // loaded machine delays the reader, not the engine).
+        QVERIFY2(lastTime - firstTime > 0.7, qPrintable(QString::number(lastTime - firstTime)));
         QCOMPARE(sleeper->socket().state(), QAbstractSocket::ConnectedState);
         observer->sendJson(MessageType::Control, controlJson("stats"));
         const auto reply = observer->nextOf(MessageType::Reply);

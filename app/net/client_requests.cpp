@@ -1,6 +1,8 @@
 #include "client_requests.h"
 
 #include <QJsonArray>
+
+#include "engine_loop.h"
 #include <cmath>
 
 namespace vssim {
@@ -188,6 +190,11 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
             !number(json, what, "theta", true, 0, &p.theta, error) || !number(json, what, "v", false, 0, &p.v, error) ||
             !number(json, what, "omega", false, 0, &p.omega, error))
             return std::nullopt;
+        if (std::abs(p.v) > kMaxPlacedRobotSpeed || std::abs(p.omega) > kMaxPlacedYawRate) {
+            fail(error, "malformed", QStringLiteral("%1: |v| must be at most %2 m/s and |omega| at most %3 rad/s")
+                                         .arg(what).arg(kMaxPlacedRobotSpeed).arg(kMaxPlacedYawRate));
+            return std::nullopt;
+        }
         if (!robotInsideField(field, scene.robots[r.robot].params.side, p.x, p.y, p.theta)) {
             fail(error, "outside_field", QStringLiteral("%1: robot %2 at (%3, %4) m, heading %5 rad, would not lie inside the %6 x %7 m field")
                                              .arg(what).arg(r.robot).arg(p.x).arg(p.y).arg(p.theta).arg(field.length).arg(field.width));
@@ -200,6 +207,10 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
             !number(json, what, "y", true, 0, &b.y, error) || !number(json, what, "vx", false, 0, &b.vx, error) ||
             !number(json, what, "vy", false, 0, &b.vy, error))
             return std::nullopt;
+        if (std::hypot(b.vx, b.vy) > kMaxPlacedBallSpeed) {
+            fail(error, "malformed", QStringLiteral("%1: the ball's speed must be at most %2 m/s").arg(what).arg(kMaxPlacedBallSpeed));
+            return std::nullopt;
+        }
         if (!discInsideField(field, scene.ball_params.radius, b.x, b.y)) {
             fail(error, "outside_field", QStringLiteral("%1: the ball at (%2, %3) m would not lie inside the %4 x %5 m field")
                                              .arg(what).arg(b.x).arg(b.y).arg(field.length).arg(field.width));
@@ -211,10 +222,10 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
         const QJsonValue speed = json.value("speed");
         if (speed.isString() && speed.toString() == "max") {
             r.speed = 0.0;
-        } else if (speed.isDouble() && std::isfinite(speed.toDouble()) && speed.toDouble() > 0 && speed.toDouble() <= 1e6) {
+        } else if (speed.isDouble() && speed.toDouble() >= kMinSpeed && speed.toDouble() <= kMaxSpeed) {
             r.speed = speed.toDouble();
         } else {
-            fail(error, "malformed", QStringLiteral("%1: \"speed\" must be a number > 0 and <= 1e6 (times real time) or \"max\"").arg(what));
+            fail(error, "malformed", QStringLiteral("%1: \"speed\" must be a number from %2 to %3 (times real time) or \"max\"").arg(what).arg(kMinSpeed).arg(kMaxSpeed));
             return std::nullopt;
         }
     } else {

@@ -21,6 +21,9 @@ struct ControlServer::Client {
     QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
     std::int64_t framesDropped = 0;
     int errorsLogged = 0;
+    std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
+    bool statsPending = false;  // one `stats` at a time per client (each sorts thousands of samples)
+    bool robotsStopped = false; // its team's robots got 0 V when it was dropped
 };
 
 ControlServer::ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent)
@@ -144,8 +147,9 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             request.kind = EngineRequest::Kind::Voltages;
             request.arrivalNs = arrivalNs;
             request.voltages = *entries;
-            if (!engine_.post(std::move(request)))
-                sendError(client, {"busy", "the engine's request queue is full; VOLTAGES dropped"}, false);
+            if (!post(client, std::move(request)))
+                sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
+                                               .arg(kMaxQueuedPerClient)}, false);
             return;
         }
         case MessageType::Control: {
@@ -158,14 +162,28 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             request->arrivalNs = arrivalNs;
             request->client = client.id;
             request->id = json->value("id");
-            if (!engine_.post(std::move(*request)))
-                sendError(client, {"busy", "the engine's request queue is full; CONTROL dropped"}, false, json->value("id"));
+            const bool stats = request->kind == EngineRequest::Kind::Stats;
+            if (stats && client.statsPending)
+                return sendError(client, {"busy", "CONTROL stats: the previous stats request is not answered yet"}, false, request->id);
+            if (!post(client, std::move(*request)))
+                return sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; CONTROL dropped")
+                                                      .arg(kMaxQueuedPerClient)}, false, json->value("id"));
+            if (stats) client.statsPending = true;
             return;
         }
         default:
             sendError(client, {"unknown_type", QStringLiteral("unknown message type 0x%1 (%2 payload bytes skipped)")
                                                    .arg(message.type, 2, 16, QChar('0')).arg(message.payload.size())}, false);
     }
+}
+
+bool ControlServer::post(Client& client, EngineRequest request) {
+    if (client.queued->load() >= kMaxQueuedPerClient) return false;
+    request.queued = client.queued;
+    client.queued->fetch_add(1);
+    if (engine_.post(std::move(request))) return true;
+    client.queued->fetch_sub(1);
+    return false;
 }
 
 void ControlServer::greet(Client& client, const QJsonObject& json) {
@@ -220,7 +238,7 @@ QJsonObject ControlServer::welcome(const Client& client) const {
     cameraJson["images"] = client.hello.images ? (client.hello.images->kind == protocol::FrameKind::Full ? "full" : "patches") : "none";
     if (client.hello.images) cameraJson["encoding"] = encodingName(client.hello.images->encoding);
     const double dt = scene_.simulation.dt;
-    const double framePeriod = std::max(1.0, std::round(0.03 / dt)) * dt;
+    const double framePeriod = engine_.framePeriod();
     return QJsonObject{
         {"protocol", protocol::kVersion},
         {"server", QStringLiteral("vssim %1").arg(VSSIM_VERSION)},
@@ -297,8 +315,19 @@ void ControlServer::drainEngine() {
             const EngineReply& r = *item.reply;
             auto it = clients_.find(r.client);
             if (it == clients_.end()) continue;
+            Client& client = *it->second;
+            if (r.command == QLatin1String("stats")) client.statsPending = false;
+            // A frame held back for a slow reader is older than this reply:
+            // it goes first (protocol.md: a step's FRAME comes before its REPLY).
+            if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) {
+                QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
+                client.pendingFrame.clear();
+                client.pendingState.clear();
+                if (!frame.isEmpty()) send(client, frame);
+                if (!state.isEmpty()) send(client, state);
+            }
             if (!r.ok) {
-                sendError(*it->second, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
+                sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
                 continue;
             }
             QJsonObject json{{"id", r.id.isUndefined() ? QJsonValue() : r.id},
@@ -314,7 +343,7 @@ void ControlServer::drainEngine() {
                 extra["frames_dropped_for_slow_clients"] = static_cast<double>(dropped);
                 json["stats"] = extra;
             }
-            send(*it->second, protocol::encodeJsonMessage(protocol::MessageType::Reply, json));
+            send(client, protocol::encodeJsonMessage(protocol::MessageType::Reply, json));
         }
     }
 }
@@ -335,11 +364,25 @@ void ControlServer::drop(Client& client, const QString& why) {
     if (client.closing) return;
     log(client, why);
     client.closing = true;
+    stopRobots(client);  // now, as its role is free from now on
     client.socket->disconnectFromHost();  // after the unsent bytes (the error reply) are written
     // A client that never reads would keep the connection open: close hard
     // after a grace period.
     QTimer::singleShot(2000, client.socket, [socket = client.socket] { socket->abort(); });
     updateSubscriptions();
+}
+
+void ControlServer::stopRobots(Client& client) {
+    if (client.robotsStopped || !client.greeted || client.hello.role == ClientRole::Observer) return;
+    client.robotsStopped = true;
+    // Its robots stop, as real robots would when their radio link dies.
+    const Team team = client.hello.role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
+    EngineRequest stop;
+    stop.kind = EngineRequest::Kind::Voltages;
+    stop.arrivalNs = monotonicNs();
+    for (std::size_t i = 0; i < scene_.robots.size(); ++i)
+        if (scene_.robots[i].team == team) stop.voltages.emplace_back(static_cast<int>(i), Voltages{});
+    if (!stop.voltages.empty()) engine_.post(std::move(stop));
 }
 
 void ControlServer::forget(int id) {
@@ -348,16 +391,7 @@ void ControlServer::forget(int id) {
     Client& client = *it->second;
     log(client, client.framesDropped > 0 ? QStringLiteral("disconnected (%1 frames dropped: it did not read fast enough)").arg(client.framesDropped)
                                          : QStringLiteral("disconnected"));
-    if (client.greeted && client.hello.role != ClientRole::Observer) {
-        // Its robots stop, as real robots would when their radio link dies.
-        const Team team = client.hello.role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
-        EngineRequest stop;
-        stop.kind = EngineRequest::Kind::Voltages;
-        stop.arrivalNs = monotonicNs();
-        for (std::size_t i = 0; i < scene_.robots.size(); ++i)
-            if (scene_.robots[i].team == team) stop.voltages.emplace_back(static_cast<int>(i), Voltages{});
-        if (!stop.voltages.empty()) engine_.post(std::move(stop));
-    }
+    stopRobots(client);
     client.socket->deleteLater();
     clients_.erase(it);
     updateSubscriptions();

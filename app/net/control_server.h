@@ -32,6 +32,9 @@ struct ServerSettings {
     int maxClients = 64;
 };
 
+// Requests one client may have waiting for the engine (a flood gets `busy`).
+constexpr int kMaxQueuedPerClient = 500;
+
 class ControlServer : public QObject {
     Q_OBJECT
 public:
@@ -60,6 +63,8 @@ private:
     void flushPending(Client& client);
     void drop(Client& client, const QString& why);
     void forget(int id);
+    void stopRobots(Client& client);            // 0 V to a team client's robots, once
+    bool post(Client& client, EngineRequest request);  // false: its quota or the queue is full
     void drainEngine();
     void updateSubscriptions();
     QJsonObject welcome(const Client& client) const;

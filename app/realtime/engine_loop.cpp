@@ -49,8 +49,11 @@ std::int64_t EngineLoop::stepAt(std::int64_t nowNs) const {
 std::int64_t EngineLoop::nextWakeNs() const {
     if (paused_ || mode_ == RunMode::Lockstep) return std::numeric_limits<std::int64_t>::max();
     if (mode_ == RunMode::Max) return 0;
-    const double wallS = static_cast<double>(nextFrameStep_ - anchorStep_) * sim_->dt() / speed_;
-    return anchorNs_ + static_cast<std::int64_t>(std::ceil(wallS * 1e9));
+    const double wakeNs = static_cast<double>(anchorNs_) +
+                          std::ceil(static_cast<double>(nextFrameStep_ - anchorStep_) * sim_->dt() / speed_ * 1e9);
+    // Saturate rather than overflow the conversion (a tiny speed factor).
+    if (!(wakeNs < 9.2e18)) return std::numeric_limits<std::int64_t>::max();
+    return static_cast<std::int64_t>(wakeNs);
 }
 
 void EngineLoop::emitInstant(std::int64_t nowNs) {
@@ -67,39 +70,38 @@ void EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
     sim_->advanceTo(target);
 }
 
+bool EngineLoop::catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps) {
+    const std::int64_t target = stepAt(wallNs);
+    const std::int64_t behind = target - sim_->state().step;
+    if (behind <= 0) return behind == 0;
+    // Fallen further behind than maxLag of wall time (a stalled machine, a
+    // speed factor beyond what the engine sustains): drop the lag instead of
+    // never catching up.
+    if (static_cast<double>(behind) * sim_->dt() / speed_ > settings_.maxLag) {
+        ++stats_.lagResets;
+        reanchor(wallNs);
+        return true;
+    }
+    advanceTo(behind > budgetSteps ? sim_->state().step + budgetSteps : target, nowNs);
+    return true;
+}
+
 void EngineLoop::runUntil(std::int64_t nowNs) {
     if (paused_ || mode_ == RunMode::Lockstep) return;
     if (mode_ == RunMode::Max) {
         advanceTo(nextFrameStep_, nowNs);
         return;
     }
-    std::int64_t target = stepAt(nowNs);
-    // Fallen further behind than maxLag (a slow machine, a huge speed
-    // factor): simulate up to maxLag behind and drop the rest of the lag
-    // rather than never catching up.
-    const std::int64_t maxSteps = std::llround(settings_.maxLag * speed_ / sim_->dt());
-    if (target - sim_->state().step > std::max<std::int64_t>(maxSteps, frameSteps_)) {
-        ++stats_.lagResets;
-        target = sim_->state().step + std::max<std::int64_t>(maxSteps, frameSteps_);
-        advanceTo(target, nowNs);
-        reanchor(nowNs);
-        return;
-    }
-    advanceTo(target, nowNs);
+    // A few frame periods per call at most, so that requests are read
+    // between them even when the simulation runs behind.
+    catchUp(nowNs, nowNs, kMaxFramesPerPass * frameSteps_);
 }
 
 void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
     using Kind = EngineRequest::Kind;
     // In realtime mode every request acts at the instant it arrived.
-    std::int64_t arrivalStep = sim_->state().step;
-    if (running()) {
-        arrivalStep = stepAt(r.arrivalNs);
-        if (arrivalStep < sim_->state().step) {
-            if (r.kind == Kind::Voltages) ++stats_.lateCommands;
-        } else {
-            advanceTo(arrivalStep, nowNs);
-        }
-    }
+    if (running() && !catchUp(r.arrivalNs, nowNs, std::numeric_limits<std::int64_t>::max()) && r.kind == Kind::Voltages)
+        ++stats_.lateCommands;
     switch (r.kind) {
         case Kind::Voltages: {
             for (const auto& [robot, e] : r.voltages) sim_->setVoltages(robot, e);
@@ -118,7 +120,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         case Kind::Resume:
             if (paused_) {
                 paused_ = false;
-                reanchor(nowNs);
+                reanchor(r.arrivalNs);
             }
             break;
         case Kind::Step: {
@@ -135,7 +137,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             sim_ = std::make_unique<Simulation>(scene_);
             frame_ = 0;
             nextFrameStep_ = frameSteps_;
-            reanchor(nowNs);
+            reanchor(r.arrivalNs);
             emitInstant(nowNs);
             break;
         case Kind::PlaceRobot:
@@ -149,7 +151,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 return replyTo(r, nowNs, "lockstep", "the speed cannot change in lockstep mode");
             mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;
             if (r.speed > 0) speed_ = r.speed;
-            reanchor(nowNs);
+            reanchor(r.arrivalNs);
             break;
         case Kind::Stats:
             return replyTo(r, nowNs, {}, {}, statsJson());

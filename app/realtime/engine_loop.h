@@ -45,6 +45,12 @@ struct EngineLoopSettings {
     double maxLag = 0.5;         // s of wall time: further behind than this, realtime drops the lag
 };
 
+// The real-time factors a realtime loop accepts (faster: max mode).
+constexpr double kMinSpeed = 1e-3;
+constexpr double kMaxSpeed = 100.0;
+// Frame periods runUntil() simulates at most per call.
+constexpr std::int64_t kMaxFramesPerPass = 4;
+
 // What the loop measured (wall-clock figures in ms).
 struct EngineLoopStats {
     SampleStats commandLatencyMs;  // from a voltage command's arrival to its application, wall clock
@@ -59,7 +65,8 @@ public:
 
     // Anchors simulated time to nowNs and emits camera instant 0.
     void start(std::int64_t nowNs);
-    // Applies one request (at its arrival instant, in realtime mode).
+    // Applies one request (at its arrival instant, in realtime mode; a
+    // resume, speed change or reset restarts the clock from its arrival).
     void handle(const EngineRequest& request, std::int64_t nowNs);
     // Realtime: simulates up to nowNs (camera instants on the way). Max: one
     // frame period. Paused or lockstep: nothing.
@@ -94,7 +101,12 @@ private:
     EngineLoopStats stats_;
 
     bool running() const { return mode_ == RunMode::Realtime && !paused_; }
-    void reanchor(std::int64_t nowNs);
+    // Simulated time restarts from the current step at wall time wallNs.
+    void reanchor(std::int64_t wallNs);
+    // Realtime: advances towards the step of wall time wallNs, by at most
+    // budgetSteps; drops the lag when it exceeds maxLag. False when the
+    // simulation is already past that step (the request came late).
+    bool catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps);
     // Advances to step `target`, with a camera instant at each one passed.
     void advanceTo(std::int64_t target, std::int64_t nowNs);
     // The first step boundary at or after the simulated instant of nowNs.

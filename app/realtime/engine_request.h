@@ -8,6 +8,8 @@
 #include <QJsonObject>
 #include <QJsonValue>
 #include <QString>
+#include <atomic>
+#include <memory>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -30,6 +32,9 @@ struct EngineRequest {
     int robot = -1;              // PlaceRobot: robot index
     RobotState robotPose;        // PlaceRobot: m, rad, m/s, rad/s
     BallState ball;              // PlaceBall: m, m/s
+    // The sender's count of requests queued and not yet handled: the engine
+    // decrements it after handling (a per-client quota against floods).
+    std::shared_ptr<std::atomic<int>> queued;
 };
 
 struct EngineReply {

@@ -17,6 +17,11 @@ EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& setting
     snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, 0.0, monotonicNs())));
 }
 
+double EngineThread::framePeriod() const {
+    return static_cast<double>(std::max<std::int64_t>(1, std::llround(settings_.framePeriod / scene_.simulation.dt))) *
+           scene_.simulation.dt;
+}
+
 EngineThread::~EngineThread() {
     requestStop();
     wait();
@@ -44,12 +49,19 @@ void EngineThread::requestStop() {
         stop_ = true;
     }
     wake_.notify_one();
+    {
+        std::lock_guard lock(outboxMutex_);
+    }
+    framesTaken_.notify_all();
 }
 
 std::vector<OutboxItem> EngineThread::takeOutbox() {
     std::lock_guard lock(outboxMutex_);
     std::vector<OutboxItem> items;
     items.swap(outbox_);
+    for (const OutboxItem& item : items)
+        if (item.frame) framesPending_.fetch_sub(1);
+    framesTaken_.notify_all();
     return items;
 }
 
@@ -66,6 +78,7 @@ void EngineThread::push(OutboxItem item) {
                 for (auto it = outbox_.begin(); it != outbox_.end(); ++it) {
                     if (it->frame) {
                         outbox_.erase(it);
+                        framesPending_.fetch_sub(1);
                         ++framesDropped_;
                         break;
                     }
@@ -102,12 +115,17 @@ void EngineThread::run() {
                 wake_.wait_until(lock, until, ready);
             }
             if (stop_) break;
-            batch.clear();
-            batch.swap(inbox_);
+            // A slice at a time, so that a flood cannot hold simulated time still.
+            const std::size_t n = std::min(inbox_.size(), kMaxRequestsPerPass);
+            batch.assign(std::make_move_iterator(inbox_.begin()), std::make_move_iterator(inbox_.begin() + n));
+            inbox_.erase(inbox_.begin(), inbox_.begin() + n);
         }
         const std::int64_t startNs = monotonicNs();
         const double simStart = loop.simulation().state().time;
-        for (const EngineRequest& request : batch) loop.handle(request, monotonicNs());
+        for (const EngineRequest& request : batch) {
+            loop.handle(request, monotonicNs());
+            if (request.queued) request.queued->fetch_sub(1);
+        }
         loop.runUntil(monotonicNs());
         const std::int64_t endNs = monotonicNs();
         const double simulated = loop.simulation().state().time - simStart;
@@ -134,12 +152,20 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
     } else {
         lastInstantNs_ = -1;
     }
-    // As fast as possible, render only when the previous frame is on its
-    // way out, instead of rendering thousands nobody could send.
-    if (loop_->mode() == RunMode::Max && running && encoder_->framesInFlight() > 0) {
+    // Render only when the server keeps up: as fast as possible, once it
+    // has taken the previous frame (instead of rendering thousands nobody
+    // could send); otherwise while fewer than kMaxPendingFrames wait to be
+    // encoded or taken, which bounds the memory they hold.
+    const int pendingLimit = loop_->mode() == RunMode::Max && running ? 1 : kMaxPendingFrames;
+    if (!running) {
+        // The instant that ends a step: wait for the server to take frames.
+        std::unique_lock lock(outboxMutex_);
+        framesTaken_.wait(lock, [&] { return framesPending_.load() < pendingLimit || stop_.load(); });
+    } else if (framesPending_.load() >= pendingLimit) {
         ++framesSkipped_;
         return;
     }
+    framesPending_.fetch_add(1);
     job.frame = frame;
     job.time = sim.state().time;
     if (!job.subscriptions.empty()) {

@@ -2,11 +2,14 @@
 // monotonic clock, renders camera images for the subscribers (a FrameEncoder
 // thread encodes them), and publishes snapshots. Other threads talk to it through post() (requests
 // stamped on arrival), takeOutbox() (frames and replies, in order) and
-// snapshots(). As fast as possible, a camera instant is rendered only when the
-// previous frame has been taken.
+// snapshots(). While the server is behind (kMaxPendingFrames frames not taken
+// yet; as fast as possible: one), a camera instant in real time is not
+// rendered; one that ends a `step` waits for the server, since nothing else
+// moves simulated time then and the client is owed that frame.
 #pragma once
 
 #include <QThread>
+#include <atomic>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -44,7 +47,10 @@ public:
     void requestStop();
 
     static constexpr std::size_t kMaxQueuedRequests = 10000;
-    static constexpr std::size_t kMaxQueuedFrames = 64;  // not taken yet; beyond, the oldest go
+    static constexpr std::size_t kMaxQueuedFrames = 64;    // in the outbox; beyond, the oldest go
+    static constexpr std::size_t kMaxRequestsPerPass = 256; // handled between two runUntil calls
+    static constexpr int kMaxPendingFrames = 4;             // rendered and not yet taken; beyond, instants are not rendered
+    double framePeriod() const;                             // s: the camera period in whole steps
 
 signals:
     // The outbox went from empty to not empty (emitted from the engine thread).
@@ -66,11 +72,13 @@ private:
     std::mutex mutex_;
     std::condition_variable wake_;
     std::vector<EngineRequest> inbox_;
-    bool stop_ = false;
+    std::atomic<bool> stop_{false};
     std::vector<ImageSubscription> images_;
     bool stateWanted_ = false;
 
+    std::atomic<int> framesPending_{0};  // frames rendered and not yet taken by takeOutbox()
     std::mutex outboxMutex_;
+    std::condition_variable framesTaken_;  // takeOutbox() took frames (or the thread is stopping)
     std::vector<OutboxItem> outbox_;
 
     // Engine-thread only.

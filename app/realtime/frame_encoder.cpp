@@ -29,15 +29,9 @@ FrameEncoder::~FrameEncoder() {
 void FrameEncoder::submit(EncodeJob job) {
     {
         std::lock_guard lock(mutex_);
-        if (!job.reply) ++framesInFlight_;
         jobs_.push_back(std::move(job));
     }
     wake_.notify_one();
-}
-
-int FrameEncoder::framesInFlight() const {
-    std::lock_guard lock(mutex_);
-    return framesInFlight_;
 }
 
 void FrameEncoder::run() {
@@ -62,12 +56,7 @@ void FrameEncoder::run() {
             deliver_(nullptr, std::move(reply));
             continue;
         }
-        std::shared_ptr<const FramePacket> packet = encode(job);
-        {
-            std::lock_guard lock(mutex_);
-            --framesInFlight_;
-        }
-        deliver_(std::move(packet), std::nullopt);
+        deliver_(encode(job), std::nullopt);
     }
 }
 

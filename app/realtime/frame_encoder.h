@@ -38,18 +38,15 @@ public:
     explicit FrameEncoder(std::function<void(std::shared_ptr<const FramePacket>, std::optional<EngineReply>)> deliver);
     ~FrameEncoder();
     void submit(EncodeJob job);
-    // Camera instants submitted and not yet delivered.
-    int framesInFlight() const;
 
 private:
     void run();
     std::shared_ptr<const FramePacket> encode(const EncodeJob& job);
 
     std::function<void(std::shared_ptr<const FramePacket>, std::optional<EngineReply>)> deliver_;
-    mutable std::mutex mutex_;
+    std::mutex mutex_;
     std::condition_variable wake_;
     std::deque<EncodeJob> jobs_;
-    int framesInFlight_ = 0;
     bool stop_ = false;
     // Encoder thread only.
     std::map<QString, SampleStats> encodeMs_, frameBytes_;  // per subscription ("patches/png", ...)
