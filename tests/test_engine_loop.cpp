@@ -318,6 +318,61 @@ private slots:
         QCOMPARE(slow.nextWakeNs(), 30'000 * kMs);  // 30 ms of simulated time take 30 s
     }
 
+    void manualControlOverridesTcpForThatRobotOnly() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(0);
+        auto tcp = voltages(0, 0, 3.0, 3.0);
+        tcp.client = 7;
+        loop.handle(tcp, 0);
+        QCOMPARE(loop.control()[0].controller, RobotController::Tcp);
+        QCOMPARE(loop.control()[0].client, 7);
+        EngineRequest manual = voltages(0, 0, -5.0, 5.0);
+        manual.kind = EngineRequest::Kind::ManualVoltages;
+        loop.handle(manual, 0);
+        QCOMPARE(loop.control()[0].controller, RobotController::Manual);
+        QCOMPARE(loop.simulation().state().voltages[0].right, -5.0);
+        // TCP for the manual robot is ignored (and remembered); for the other robot it applies.
+        auto ignored = voltages(0, 0, 1.0, 2.0);
+        ignored.client = 7;
+        loop.handle(ignored, 0);
+        QCOMPARE(loop.simulation().state().voltages[0].right, -5.0);
+        QVERIFY(loop.control()[0].tcpWhileManual);
+        auto other = voltages(0, 1, 4.0, 4.0);
+        other.client = 8;
+        loop.handle(other, 0);
+        QCOMPARE(loop.simulation().state().voltages[1].right, 4.0);
+        // Letting go: the last TCP voltages apply again.
+        EngineRequest release = control(EngineRequest::Kind::ReleaseManual);
+        release.robot = 0;
+        loop.handle(release, 0);
+        QCOMPARE(loop.control()[0].controller, RobotController::Tcp);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 1.0);
+        QCOMPARE(loop.simulation().state().voltages[0].left, 2.0);
+    }
+
+    void loadSceneReplacesTheWorld() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.runUntil(100 * kMs);
+        Scene three = twoRobots();
+        three.robots.push_back(test::robotAt("yellow1", 0.0, -0.4, 1.0));
+        three.simulation.dt = 0.002;
+        EngineRequest load = control(EngineRequest::Kind::LoadScene, 100 * kMs);
+        load.scene = std::make_shared<const Scene>(three);
+        loop.handle(load, 100 * kMs);
+        QCOMPARE(loop.simulation().state().robots.size(), std::size_t(3));
+        QCOMPARE(loop.control().size(), std::size_t(3));
+        QCOMPARE(loop.frame(), 0);
+        QCOMPARE(loop.frameSteps(), 15);  // 30 ms of 2 ms steps
+        loop.runUntil(160 * kMs);
+        QCOMPARE(loop.simulation().state().step, 30);
+        QCOMPARE(hashState(loop.simulation().state()), offlineHash(three, {}, 30));
+    }
+
     void statsReply() {
         RecordingSink sink;
         EngineLoop loop(twoRobots(), {}, sink);

@@ -24,7 +24,37 @@ struct ControlServer::Client {
     std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
     bool statsPending = false;  // one `stats` at a time per client (each sorts thousands of samples)
     bool robotsStopped = false; // its team's robots got 0 V when it was dropped
+    std::int64_t commands = 0;     // VOLTAGES accepted
+    std::int64_t framesSent = 0;
+    std::int64_t connectedNs = 0;  // monotonicNs() at connection
 };
+
+std::vector<ClientInfo> ControlServer::clients() const {
+    std::vector<ClientInfo> out;
+    for (const auto& [id, c] : clients_) {
+        ClientInfo info;
+        info.id = id;
+        info.peer = c->peer;
+        info.greeted = c->greeted;
+        info.role = c->greeted ? roleName(c->hello.role) : QStringLiteral("(no HELLO yet)");
+        info.name = c->hello.name;
+        info.images = c->hello.images ? subscriptionName(*c->hello.images) : QStringLiteral("none");
+        info.state = c->hello.state;
+        info.commands = c->commands;
+        info.framesSent = c->framesSent;
+        info.framesDropped = c->framesDropped;
+        info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
+        out.push_back(info);
+    }
+    return out;
+}
+
+void ControlServer::setScene(const Scene& scene) {
+    scene_ = scene;
+    background_ = CameraRenderer(scene);
+    for (auto& [id, client] : clients_)
+        sendError(*client, {"scene_changed", "the server loaded another scene: connect again"}, true);
+}
 
 ControlServer::ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent)
     : QObject(parent), scene_(scene), engine_(engine), settings_(settings), background_(scene) {
@@ -67,6 +97,7 @@ void ControlServer::accept() {
         // Small messages (replies, STATE) go out at once: no Nagle delay.
         socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
         client->peer = QStringLiteral("%1:%2").arg(socket->peerAddress().toString()).arg(socket->peerPort());
+        client->connectedNs = monotonicNs();
         Client& c = *client;
         const int id = c.id;
         clients_.emplace(id, std::move(client));
@@ -146,7 +177,9 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             EngineRequest request;
             request.kind = EngineRequest::Kind::Voltages;
             request.arrivalNs = arrivalNs;
+            request.client = client.id;
             request.voltages = *entries;
+            ++client.commands;
             if (!post(client, std::move(request)))
                 sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
                                                .arg(kMaxQueuedPerClient)}, false);
@@ -286,7 +319,10 @@ void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray stat
         client.pendingState = std::move(state);
         return;
     }
-    if (!frame.isEmpty()) send(client, frame);
+    if (!frame.isEmpty()) {
+        send(client, frame);
+        ++client.framesSent;
+    }
     if (!state.isEmpty()) send(client, state);
 }
 

@@ -32,6 +32,19 @@ struct ServerSettings {
     int maxClients = 64;
 };
 
+// One connected client, for a connections panel.
+struct ClientInfo {
+    int id = 0;
+    QString peer;         // address:port
+    bool greeted = false;
+    QString role;         // yellow, blue, observer
+    QString name;
+    QString images;       // e.g. "patches/png", or "none"
+    bool state = false;
+    std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
+    double connectedSeconds = 0.0;
+};
+
 // Requests one client may have waiting for the engine (a flood gets `busy`).
 constexpr int kMaxQueuedPerClient = 500;
 
@@ -45,6 +58,11 @@ public:
     quint16 port() const { return server_.serverPort(); }
     QHostAddress address() const { return server_.serverAddress(); }
     int clientCount() const { return static_cast<int>(clients_.size()); }
+    std::vector<ClientInfo> clients() const;
+    // Another scene (the desktop app opened one): every client is told
+    // (ERROR scene_changed, fatal) and disconnected, since its WELCOME no
+    // longer holds. The engine gets the scene separately (LoadScene).
+    void setScene(const Scene& scene);
 
 signals:
     // One line for the log: connections, greetings, errors, disconnections.
@@ -70,7 +88,7 @@ private:
     QJsonObject welcome(const Client& client) const;
     void log(const Client& client, const QString& text);
 
-    const Scene scene_;
+    Scene scene_;
     EngineThread& engine_;
     ServerSettings settings_;
     CameraRenderer background_;  // for the background images sent on HELLO

@@ -24,6 +24,7 @@ EngineLoop::EngineLoop(const Scene& scene, const EngineLoopSettings& settings, E
       speed_(settings.speed) {
     frameSteps_ = std::max<std::int64_t>(1, std::llround(settings.framePeriod / scene.simulation.dt));
     nextFrameStep_ = frameSteps_;
+    control_.assign(scene.robots.size(), RobotControl{});
 }
 
 void EngineLoop::start(std::int64_t nowNs) {
@@ -97,6 +98,14 @@ void EngineLoop::runUntil(std::int64_t nowNs) {
     catchUp(nowNs, nowNs, kMaxFramesPerPass * frameSteps_);
 }
 
+void EngineLoop::restart(std::int64_t arrivalNs, std::int64_t nowNs) {
+    sim_ = std::make_unique<Simulation>(scene_);
+    frame_ = 0;
+    nextFrameStep_ = frameSteps_;
+    reanchor(arrivalNs);
+    emitInstant(nowNs);
+}
+
 void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
     using Kind = EngineRequest::Kind;
     // In realtime mode every request acts at the instant it arrived.
@@ -104,7 +113,17 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         ++stats_.lateCommands;
     switch (r.kind) {
         case Kind::Voltages: {
-            for (const auto& [robot, e] : r.voltages) sim_->setVoltages(robot, e);
+            for (const auto& [robot, e] : r.voltages) {
+                RobotControl& c = control_[robot];
+                c.lastTcp = e;
+                c.client = r.client;
+                if (c.controller == RobotController::Manual) {
+                    c.tcpWhileManual = true;  // a person has it: TCP is ignored
+                    continue;
+                }
+                c.controller = RobotController::Tcp;
+                sim_->setVoltages(robot, e);
+            }
             stats_.commandLatencyMs.add(1e-6 * static_cast<double>(nowNs - r.arrivalNs));
             if (running()) {
                 const double arrivalTime = simTimeAt(r.arrivalNs);
@@ -114,6 +133,27 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             }
             return;  // voltages get no reply (errors are the server's)
         }
+        case Kind::ManualVoltages:
+            for (const auto& [robot, e] : r.voltages) {
+                control_[robot].controller = RobotController::Manual;
+                sim_->setVoltages(robot, e);
+            }
+            return;
+        case Kind::ReleaseManual: {
+            RobotControl& c = control_[r.robot];
+            if (c.controller == RobotController::Manual) {
+                c.controller = c.client >= 0 ? RobotController::Tcp : RobotController::None;
+                sim_->setVoltages(r.robot, c.client >= 0 ? c.lastTcp : Voltages{});
+                c.tcpWhileManual = false;
+            }
+            break;
+        }
+        case Kind::LoadScene:
+            scene_ = *r.scene;
+            frameSteps_ = std::max<std::int64_t>(1, std::llround(settings_.framePeriod / scene_.simulation.dt));
+            control_.assign(scene_.robots.size(), RobotControl{});
+            restart(r.arrivalNs, nowNs);
+            break;
         case Kind::Pause:
             paused_ = true;
             break;
@@ -134,11 +174,8 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             break;
         }
         case Kind::Reset:
-            sim_ = std::make_unique<Simulation>(scene_);
-            frame_ = 0;
-            nextFrameStep_ = frameSteps_;
-            reanchor(r.arrivalNs);
-            emitInstant(nowNs);
+            for (RobotControl& c : control_) c.lastTcp = Voltages{};
+            restart(r.arrivalNs, nowNs);
             break;
         case Kind::PlaceRobot:
             sim_->placeRobot(r.robot, r.robotPose);

@@ -27,6 +27,15 @@
 namespace vssim {
 
 enum class RunMode { Realtime, Max, Lockstep };
+
+// Who drives a robot now.
+enum class RobotController { None, Tcp, Manual };
+struct RobotControl {
+    RobotController controller = RobotController::None;
+    int client = -1;              // the TCP client whose voltages it last took (Tcp), or -1
+    Voltages lastTcp;             // the last TCP voltages, also while under manual control, V
+    bool tcpWhileManual = false;  // TCP voltages arrived (and were ignored) under manual control
+};
 const char* runModeName(RunMode mode);
 
 // Where the loop's output goes: camera instants and replies.
@@ -76,6 +85,8 @@ public:
     std::int64_t nextWakeNs() const;
 
     const Simulation& simulation() const { return *sim_; }
+    const Scene& scene() const { return scene_; }
+    const std::vector<RobotControl>& control() const { return control_; }
     std::int64_t frame() const { return frame_; }
     std::int64_t frameSteps() const { return frameSteps_; }
     RunMode mode() const { return mode_; }
@@ -86,8 +97,9 @@ public:
     double simTimeAt(std::int64_t nowNs) const;
 
 private:
-    const Scene scene_;
+    Scene scene_;
     EngineLoopSettings settings_;
+    std::vector<RobotControl> control_;  // per robot
     EngineSink& sink_;
     std::unique_ptr<Simulation> sim_;
     RunMode mode_;
@@ -112,6 +124,8 @@ private:
     // The first step boundary at or after the simulated instant of nowNs.
     std::int64_t stepAt(std::int64_t nowNs) const;
     void emitInstant(std::int64_t nowNs);
+    // The scene from its beginning: time 0, frame 0 (emitted).
+    void restart(std::int64_t arrivalNs, std::int64_t nowNs);
     void replyTo(const EngineRequest& request, std::int64_t nowNs, const QString& error = {},
                  const QString& message = {}, const QJsonObject& extra = {});
     QJsonObject statsJson() const;

@@ -16,11 +16,18 @@
 
 #include "vssim/ball.h"
 #include "vssim/robot_state.h"
+#include "vssim/scene.h"
 
 namespace vssim {
 
 struct EngineRequest {
-    enum class Kind { Voltages, Pause, Resume, Step, Reset, PlaceRobot, PlaceBall, Speed, Stats };
+    enum class Kind {
+        Voltages,       // from a TCP client (`client`); ignored for robots under manual control
+        ManualVoltages, // from a person (keyboard, gamepad): the robots go under manual control
+        ReleaseManual,  // `robot` back to TCP control: its last TCP voltages (0 V if none) apply again
+        Pause, Resume, Step, Reset, PlaceRobot, PlaceBall, Speed, Stats,
+        LoadScene,      // replace the scene (`scene`) and start it from its beginning
+    };
     Kind kind = Kind::Voltages;
     std::int64_t arrivalNs = 0;  // monotonicNs() when the message arrived
     int client = -1;             // the server's client number; -1: no reply wanted
@@ -35,6 +42,7 @@ struct EngineRequest {
     // The sender's count of requests queued and not yet handled: the engine
     // decrements it after handling (a per-client quota against floods).
     std::shared_ptr<std::atomic<int>> queued;
+    std::shared_ptr<const Scene> scene;  // LoadScene
 };
 
 struct EngineReply {

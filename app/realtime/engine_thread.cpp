@@ -14,12 +14,13 @@ EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& setting
     // Readers see the initial state (and the mode) from the start, before
     // the thread runs.
     EngineLoop initial(scene_, settings_, *this);
-    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, 0.0, monotonicNs())));
+    sceneShared_ = std::make_shared<const Scene>(scene_);
+    framePeriod_ = static_cast<double>(initial.frameSteps()) * scene_.simulation.dt;
+    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, sceneShared_, 0.0, monotonicNs())));
 }
 
 double EngineThread::framePeriod() const {
-    return static_cast<double>(std::max<std::int64_t>(1, std::llround(settings_.framePeriod / scene_.simulation.dt))) *
-           scene_.simulation.dt;
+    return framePeriod_.load();
 }
 
 EngineThread::~EngineThread() {
@@ -101,7 +102,7 @@ void EngineThread::run() {
     EngineLoop loop(scene_, settings_, *this);
     loop_ = &loop;
     loop.start(monotonicNs());
-    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, 0.0, monotonicNs())));
+    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, sceneShared_, 0.0, monotonicNs())));
     std::vector<EngineRequest> batch;
     for (;;) {
         {
@@ -123,14 +124,21 @@ void EngineThread::run() {
         const std::int64_t startNs = monotonicNs();
         const double simStart = loop.simulation().state().time;
         for (const EngineRequest& request : batch) {
+            if (request.kind == EngineRequest::Kind::LoadScene) {
+                // The camera draws the new robots; readers see the new scene.
+                renderer_ = CameraRenderer(*request.scene);
+                sceneShared_ = request.scene;
+            }
             loop.handle(request, monotonicNs());
+            if (request.kind == EngineRequest::Kind::LoadScene)
+                framePeriod_ = static_cast<double>(loop.frameSteps()) * loop.scene().simulation.dt;
             if (request.queued) request.queued->fetch_sub(1);
         }
         loop.runUntil(monotonicNs());
         const std::int64_t endNs = monotonicNs();
         const double simulated = loop.simulation().state().time - simStart;
         const double stepCost = simulated > 0 ? 1e-9 * static_cast<double>(endNs - startNs) / simulated : 0.0;
-        snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, stepCost, endNs)));
+        snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, sceneShared_, stepCost, endNs)));
     }
     loop_ = nullptr;
     encoder_.reset();  // finishes the jobs queued

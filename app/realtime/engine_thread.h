@@ -66,7 +66,9 @@ private:
 
     const Scene scene_;
     const EngineLoopSettings settings_;
-    CameraRenderer renderer_;
+    CameraRenderer renderer_;               // engine thread (after construction)
+    std::shared_ptr<const Scene> sceneShared_;  // engine thread: the scene in snapshots
+    std::atomic<double> framePeriod_{0.03};  // s
     SnapshotBuffer snapshots_;
 
     std::mutex mutex_;

@@ -2,7 +2,7 @@
 
 namespace vssim {
 
-Snapshot takeSnapshot(const EngineLoop& loop, double stepCost, std::int64_t nowNs) {
+Snapshot takeSnapshot(const EngineLoop& loop, std::shared_ptr<const Scene> scene, double stepCost, std::int64_t nowNs) {
     const Simulation& sim = loop.simulation();
     Snapshot s;
     s.time = sim.state().time;
@@ -16,6 +16,8 @@ Snapshot takeSnapshot(const EngineLoop& loop, double stepCost, std::int64_t nowN
     s.outputs.reserve(s.robots.size());
     for (std::size_t i = 0; i < s.robots.size(); ++i) s.outputs.push_back(sim.robotOutputs(static_cast<int>(i)));
     s.ball = sim.state().ball;
+    s.control = loop.control();
+    s.scene = std::move(scene);
     s.stepCost = stepCost;
     s.publishedNs = nowNs;
     return s;

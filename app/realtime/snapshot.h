@@ -26,11 +26,14 @@ struct Snapshot {
     std::vector<Voltages> voltages;      // applied, V
     std::vector<RobotOutputs> outputs;   // wheel speeds (rad/s), currents (A), torques (N m)
     BallState ball;
+    std::vector<RobotControl> control;   // who drives each robot
+    std::shared_ptr<const Scene> scene;  // the scene being run (changes only on LoadScene)
     double stepCost = 0.0;          // wall seconds spent per simulated second over the last pass
     std::int64_t publishedNs = 0;   // monotonicNs() at publication
 };
 
-Snapshot takeSnapshot(const EngineLoop& loop, double stepCost, std::int64_t nowNs);
+// `scene`: the loop's scene, shared between snapshots until it changes.
+Snapshot takeSnapshot(const EngineLoop& loop, std::shared_ptr<const Scene> scene, double stepCost, std::int64_t nowNs);
 
 class SnapshotBuffer {
 public:
