@@ -1,0 +1,78 @@
+#include "app_session.h"
+
+#include "monotonic_clock.h"
+
+namespace vssim {
+
+AppSession::AppSession(const Scene& scene, const ServerSettings& server, QObject* parent)
+    : QObject(parent), scene_(scene) {
+    engine_ = std::make_unique<EngineThread>(scene_, EngineLoopSettings{});
+    server_ = std::make_unique<ControlServer>(scene_, *engine_, server);
+    connect(server_.get(), &ControlServer::logLine, this, &AppSession::logLine);
+    listening_ = server_->listen(&listenError_);
+    engine_->start();
+}
+
+AppSession::~AppSession() {
+    server_.reset();
+    engine_->requestStop();
+    engine_->wait();
+}
+
+void AppSession::post(EngineRequest request) {
+    request.arrivalNs = monotonicNs();
+    engine_->post(std::move(request));
+}
+
+void AppSession::post(EngineRequest::Kind kind) {
+    EngineRequest r;
+    r.kind = kind;
+    post(std::move(r));
+}
+
+void AppSession::placeRobot(int robot, const RobotState& pose) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::PlaceRobot;
+    r.robot = robot;
+    r.robotPose = pose;
+    post(std::move(r));
+}
+
+void AppSession::placeBall(const BallState& ball) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::PlaceBall;
+    r.ball = ball;
+    post(std::move(r));
+}
+
+void AppSession::driveManually(int robot, const Voltages& volts) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::ManualVoltages;
+    r.voltages = {{robot, volts}};
+    post(std::move(r));
+}
+
+void AppSession::releaseManual(int robot) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::ReleaseManual;
+    r.robot = robot;
+    post(std::move(r));
+}
+
+void AppSession::setSpeed(double speed) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::Speed;
+    r.speed = speed;
+    post(std::move(r));
+}
+
+void AppSession::loadScene(const Scene& scene) {
+    scene_ = scene;
+    server_->setScene(scene_);
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::LoadScene;
+    r.scene = std::make_shared<const Scene>(scene_);
+    post(std::move(r));
+}
+
+}  // namespace vssim

@@ -1,0 +1,54 @@
+// What the desktop app runs: an engine thread and its TCP server, in real
+// time, on a scene that can be replaced. The widgets read snapshots
+// (latest()) and send requests (post()); none of them steps the engine.
+#pragma once
+
+#include <QObject>
+#include <memory>
+
+#include "control_server.h"
+#include "engine_thread.h"
+#include "snapshot.h"
+
+namespace vssim {
+
+class AppSession : public QObject {
+    Q_OBJECT
+public:
+    // Starts the engine (real time, x1) on `scene` and tries to listen on
+    // `server` (listening() says whether it could, listenError() why not).
+    AppSession(const Scene& scene, const ServerSettings& server, QObject* parent = nullptr);
+    ~AppSession() override;
+
+    std::shared_ptr<const Snapshot> latest() const { return engine_->snapshots().latest(); }
+    // The scene being run (the last one loaded).
+    const Scene& scene() const { return scene_; }
+    // Posts a request stamped now (arrivalNs) from the app itself.
+    void post(EngineRequest request);
+    // Convenience requests.
+    void post(EngineRequest::Kind kind);
+    void placeRobot(int robot, const RobotState& pose);
+    void placeBall(const BallState& ball);
+    void driveManually(int robot, const Voltages& volts);
+    void releaseManual(int robot);
+    void setSpeed(double speed);  // x real time; 0: as fast as possible
+    // Replaces the scene (engine and server; TCP clients must reconnect).
+    void loadScene(const Scene& scene);
+
+    bool listening() const { return listening_; }
+    QString listenError() const { return listenError_; }
+    quint16 port() const { return server_->port(); }
+    const ControlServer& server() const { return *server_; }
+
+signals:
+    void logLine(const QString& line);
+
+private:
+    Scene scene_;
+    std::unique_ptr<EngineThread> engine_;
+    std::unique_ptr<ControlServer> server_;
+    bool listening_ = false;
+    QString listenError_;
+};
+
+}  // namespace vssim
