@@ -373,6 +373,30 @@ private slots:
         QCOMPARE(hashState(loop.simulation().state()), offlineHash(three, {}, 30));
     }
 
+    void setSettingsKeepsTheBodies() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        loop.handle(voltages(1 * kMs, 0, 5.0, 4.0), 1 * kMs);
+        loop.runUntil(90 * kMs);
+        const WorldState before = loop.simulation().state();
+        Scene exact = twoRobots();
+        exact.simulation.integrator = Integrator::Exact;
+        EngineRequest set = control(EngineRequest::Kind::SetSettings, 90 * kMs);
+        set.scene = std::make_shared<const Scene>(exact);
+        loop.handle(set, 90 * kMs);
+        const WorldState& after = loop.simulation().state();
+        QCOMPARE(after.step, 0);
+        QCOMPARE(after.robots[0].x, before.robots[0].x);
+        QCOMPARE(after.robots[0].v, before.robots[0].v);
+        QCOMPARE(after.voltages[0].right, 5.0);
+        QCOMPARE(after.ball.vx, before.ball.vx);
+        QCOMPARE(loop.scene().simulation.integrator, Integrator::Exact);
+        // Reset still goes back to the scene's own start.
+        loop.handle(control(EngineRequest::Kind::Reset, 100 * kMs), 100 * kMs);
+        QCOMPARE(loop.simulation().state().robots[0].x, -0.3);
+    }
+
     void statsReply() {
         RecordingSink sink;
         EngineLoop loop(twoRobots(), {}, sink);

@@ -66,6 +66,14 @@ void AppSession::setSpeed(double speed) {
     post(std::move(r));
 }
 
+void AppSession::applySettings(const SimulationSettings& settings) {
+    scene_.simulation = settings;
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::SetSettings;
+    r.scene = std::make_shared<const Scene>(scene_);
+    post(std::move(r));
+}
+
 void AppSession::loadScene(const Scene& scene) {
     scene_ = scene;
     server_->setScene(scene_);

@@ -32,6 +32,9 @@ public:
     void driveManually(int robot, const Voltages& volts);
     void releaseManual(int robot);
     void setSpeed(double speed);  // x real time; 0: as fast as possible
+    // New integrator, step, collision model or restitution: the bodies stay
+    // where they are, the clock restarts at 0 (EngineRequest::SetSettings).
+    void applySettings(const SimulationSettings& settings);
     // Replaces the scene (engine and server; TCP clients must reconnect).
     void loadScene(const Scene& scene);
 

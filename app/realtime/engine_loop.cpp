@@ -154,6 +154,24 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             control_.assign(scene_.robots.size(), RobotControl{});
             restart(r.arrivalNs, nowNs);
             break;
+        case Kind::SetSettings: {
+            const WorldState before = sim_->state();
+            scene_.simulation = r.scene->simulation;
+            frameSteps_ = std::max<std::int64_t>(1, std::llround(settings_.framePeriod / scene_.simulation.dt));
+            Scene now = scene_;
+            now.commands.clear();  // the schedule's times refer to the old clock
+            sim_ = std::make_unique<Simulation>(now);
+            for (std::size_t i = 0; i < before.robots.size(); ++i) {
+                sim_->placeRobot(static_cast<int>(i), before.robots[i]);
+                sim_->setVoltages(static_cast<int>(i), before.voltages[i]);
+            }
+            sim_->placeBall(before.ball);
+            frame_ = 0;
+            nextFrameStep_ = frameSteps_;
+            reanchor(r.arrivalNs);
+            emitInstant(nowNs);
+            break;
+        }
         case Kind::Pause:
             paused_ = true;
             break;

@@ -27,6 +27,8 @@ struct EngineRequest {
         ReleaseManual,  // `robot` back to TCP control: its last TCP voltages (0 V if none) apply again
         Pause, Resume, Step, Reset, PlaceRobot, PlaceBall, Speed, Stats,
         LoadScene,      // replace the scene (`scene`) and start it from its beginning
+        SetSettings,    // `scene->simulation` (integrator, dt, collisions): the bodies stay where they
+                        // are, with their velocities and voltages; the clock restarts at 0
     };
     Kind kind = Kind::Voltages;
     std::int64_t arrivalNs = 0;  // monotonicNs() when the message arrived

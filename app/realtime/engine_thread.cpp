@@ -130,7 +130,7 @@ void EngineThread::run() {
                 sceneShared_ = request.scene;
             }
             loop.handle(request, monotonicNs());
-            if (request.kind == EngineRequest::Kind::LoadScene)
+            if (request.kind == EngineRequest::Kind::LoadScene || request.kind == EngineRequest::Kind::SetSettings)
                 framePeriod_ = static_cast<double>(loop.frameSteps()) * loop.scene().simulation.dt;
             if (request.queued) request.queued->fetch_sub(1);
         }

@@ -1,0 +1,98 @@
+#include "robot_inspector.h"
+
+#include <QFormLayout>
+#include <QLabel>
+#include <cmath>
+
+namespace vssim {
+
+namespace {
+
+// Form rows: key (objectName suffix) and the label shown beside the value.
+struct Row {
+    const char* key;
+    const char* caption;
+};
+constexpr Row kRows[] = {
+    {"name", "Robot"},
+    {"team", "Team"},
+    {"x", "x"},
+    {"y", "y"},
+    {"theta", "θ (heading)"},
+    {"v", "v (forward)"},
+    {"omega", "ω (yaw rate)"},
+    {"wheelRight", "Wheel speed right"},
+    {"wheelLeft", "Wheel speed left"},
+    {"voltageRight", "Voltage right"},
+    {"voltageLeft", "Voltage left"},
+    {"currentRight", "Current right"},
+    {"currentLeft", "Current left"},
+    {"controller", "Driven by"},
+};
+
+QString number(double value, int decimals, const char* unit) {
+    return QString::asprintf("%.*f %s", decimals, value, unit);
+}
+
+}  // namespace
+
+QString controllerText(const RobotControl& control) {
+    switch (control.controller) {
+        case RobotController::Tcp: return QStringLiteral("TCP client %1").arg(control.client);
+        case RobotController::Manual:
+            return control.tcpWhileManual ? QStringLiteral("manual (TCP voltages ignored)") : QStringLiteral("manual");
+        case RobotController::None: break;
+    }
+    return QStringLiteral("nobody (0 V)");
+}
+
+RobotInspector::RobotInspector(QWidget* parent) : QWidget(parent) {
+    auto* form = new QFormLayout(this);
+    for (const Row& row : kRows) {
+        auto* value = new QLabel(this);
+        value->setObjectName(QStringLiteral("inspector.") + row.key);
+        value->setTextInteractionFlags(Qt::TextSelectableByMouse);
+        form->addRow(QString::fromUtf8(row.caption), value);
+        values_[row.key] = value;
+    }
+    showRobot(Snapshot{}, -1);
+}
+
+void RobotInspector::set(const QString& key, const QString& text) { values_.at(key)->setText(text); }
+
+void RobotInspector::showRobot(const Snapshot& s, int robot) {
+    const auto index = static_cast<std::size_t>(robot);
+    if (robot < 0 || index >= s.robots.size()) {
+        for (auto& [key, label] : values_) label->setText(QStringLiteral("–"));
+        set("name", QStringLiteral("no robot selected"));
+        return;
+    }
+    if (s.scene && index < s.scene->robots.size()) {
+        const RobotSpec& spec = s.scene->robots[index];
+        set("name", QString::fromStdString(spec.name));
+        set("team", spec.team == Team::Yellow ? QStringLiteral("yellow") : QStringLiteral("blue"));
+    } else {
+        set("name", QStringLiteral("robot %1").arg(robot));
+        set("team", QStringLiteral("–"));
+    }
+    const RobotState& state = s.robots[index];
+    set("x", number(state.x, 3, "m"));
+    set("y", number(state.y, 3, "m"));
+    set("theta", number(state.theta * 180.0 / M_PI, 1, "deg"));
+    set("v", number(state.v, 3, "m/s"));
+    set("omega", number(state.omega, 2, "rad/s"));
+
+    const RobotOutputs outputs = index < s.outputs.size() ? s.outputs[index] : RobotOutputs{};
+    set("wheelRight", number(outputs.wheel_speed_right, 1, "rad/s"));
+    set("wheelLeft", number(outputs.wheel_speed_left, 1, "rad/s"));
+    set("currentRight", number(outputs.current_right, 3, "A"));
+    set("currentLeft", number(outputs.current_left, 3, "A"));
+
+    const Voltages volts = index < s.voltages.size() ? s.voltages[index] : Voltages{};
+    set("voltageRight", number(volts.right, 2, "V"));
+    set("voltageLeft", number(volts.left, 2, "V"));
+
+    set("controller", controllerText(index < s.control.size() ? s.control[index] : RobotControl{}));
+}
+
+}  // namespace vssim
