@@ -1,8 +1,10 @@
 // vssim: the command-line entry point. Subcommands dispatch to their own files.
 #include <QCoreApplication>
 #include <QTextStream>
+#include <string>
 
 #include "run_command.h"
+#include "gui_command.h"
 #include "serve_command.h"
 #include "stress_command.h"
 
@@ -13,7 +15,9 @@ QString mainHelp() {
         "vssim %1 - simulator of IEEE Very Small Size Soccer robots (DC motors, ball, collisions)\n"
         "\n"
         "Usage:\n"
-        "  vssim                 run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
+        "  vssim                 open the desktop app on the 3-vs-3 kick-off (without a display: the demo)\n"
+        "  vssim gui [SCENE]     open the desktop app on a scene (vssim gui --help)\n"
+        "  vssim demo            run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
         "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
         "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
         "                        (vssim serve --help; protocol: docs/protocol.md)\n"
@@ -28,11 +32,18 @@ QString mainHelp() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    const bool gui = argc >= 2 ? std::string(argv[1]) == "gui" : vssim::displayAvailable();
+    if (gui) return vssim::guiCommand(argc, argv);
     QCoreApplication app(argc, argv);
     QCoreApplication::setApplicationName("vssim");
     QCoreApplication::setApplicationVersion(VSSIM_VERSION);
     const QStringList args = QCoreApplication::arguments();
-    if (args.size() < 2) return vssim::demoCommand();
+    if (args.size() < 2) {
+        QTextStream(stderr) << "vssim: no display, so no desktop app: running the headless demo instead "
+                               "(vssim gui needs X11 or Wayland; vssim --help lists the rest)\n";
+        return vssim::demoCommand();
+    }
+    if (args[1] == "demo") return vssim::demoCommand();
     const QString command = args[1];
     if (command == "run") return vssim::runCommand(args.mid(1));
     if (command == "serve") return vssim::serveCommand(args.mid(1));

@@ -12,6 +12,11 @@ namespace {
 constexpr double kMargin = 2.0;          // px between the base and the widget's edge
 constexpr double kKnobFraction = 0.28;   // knob radius / base radius
 
+// Base radius, px: the largest circle that fits, less the margin.
+double baseRadiusOf(const QWidget& w) {
+    return std::max(1.0, std::min(w.width(), w.height()) / 2.0 - kMargin);
+}
+
 }  // namespace
 
 JoystickWidget::JoystickWidget(QWidget* parent) : QWidget(parent) {
@@ -22,11 +27,6 @@ JoystickWidget::JoystickWidget(QWidget* parent) : QWidget(parent) {
 }
 
 QPointF JoystickWidget::centre() const { return {width() / 2.0, height() / 2.0}; }
-
-// Base radius: the largest circle that fits, less the margin.
-static double baseRadiusOf(const QWidget& w) {
-    return std::max(1.0, std::min(w.width(), w.height()) / 2.0 - kMargin);
-}
 
 double JoystickWidget::knobRadius() const { return baseRadiusOf(*this) * kKnobFraction; }
 

@@ -16,8 +16,8 @@ struct Series {
     QColor colour;
 };
 
-constexpr int kMarginLeft = 64;   // px, room for the min/max labels
-constexpr int kMarginRight = 64;  // px, room for a second unit's labels
+constexpr int kMarginLeft = 72;   // px, room for the min/max labels
+constexpr int kMarginRight = 84;  // px, room for a second unit's labels
 constexpr int kTitleHeight = 16;  // px
 constexpr int kTimeAxisHeight = 16;  // px
 

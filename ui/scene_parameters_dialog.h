@@ -48,9 +48,10 @@ public slots:
     void copyToAllRobots();
 
 private:
-    // A spin box for a value with the unit as `suffix` and `range` as the reader checks it.
+    // A spin box showing `value`, with the unit as `suffix` and the range the
+    // reader checks (scene_value_ranges.h); onEdit gets each changed value.
     QDoubleSpinBox* spinBox(const QString& objectName, const QString& suffix, int decimals, SceneRange range,
-                            double cap, const std::function<void(double)>& onEdit);
+                            double cap, double value, const std::function<void(double)>& onEdit);
     // A spin box bound to one parameter of the selected robot.
     QDoubleSpinBox* robotSpinBox(const QString& objectName, const QString& suffix, int decimals, SceneRange range,
                                  double cap, std::function<double&(RobotParams&)> parameter);

@@ -1,0 +1,361 @@
+#include "field_view.h"
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QPainterPath>
+#include <QWheelEvent>
+#include <algorithm>
+#include <cmath>
+
+#include "camera_colours.h"
+#include "vssim/field.h"
+
+namespace vssim {
+
+namespace {
+
+constexpr double kMargin = 0.08;  // m of view around the field
+constexpr std::size_t kTrailPoints = 240;
+
+QColor qcolor(Bgr c) { return QColor(c.r, c.g, c.b); }
+
+// Index of robot i among the robots of its team (its identity colour).
+int identityIndex(const Scene& scene, int robot) {
+    int n = 0;
+    for (int i = 0; i < robot; ++i) n += scene.robots[i].team == scene.robots[robot].team;
+    return n;
+}
+
+}  // namespace
+
+FieldView::FieldView(QWidget* parent) : QOpenGLWidget(parent) {
+    setFocusPolicy(Qt::StrongFocus);
+    setMouseTracking(false);
+    setMinimumSize(320, 280);
+    setToolTip(tr("Drag a robot or the ball to move it; mouse wheel over a robot turns it;\n"
+                  "Shift+drag from a body sets its velocity (0.1 m of arrow = 1 m/s);\n"
+                  "wheel elsewhere zooms, right or middle drag pans, double-click resets the view;\n"
+                  "W A S D or the arrow keys drive the selected robot, Esc lets it go."));
+}
+
+void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
+    if (!snapshot) return;
+    const std::size_t bodies = snapshot->robots.size() + 1;
+    if (trails_.size() != bodies || snapshot->time < trailTime_) trails_.assign(bodies, {});
+    trailTime_ = snapshot->time;
+    for (std::size_t i = 0; i < bodies; ++i) {
+        const QPointF p = i + 1 < bodies ? QPointF(snapshot->robots[i].x, snapshot->robots[i].y)
+                                         : QPointF(snapshot->ball.x, snapshot->ball.y);
+        auto& trail = trails_[i];
+        if (trail.empty() || QLineF(trail.back(), p).length() > 0.002) trail.push_back(p);
+        if (trail.size() > kTrailPoints) trail.pop_front();
+    }
+    snapshot_ = std::move(snapshot);
+    if (selected_ >= static_cast<int>(snapshot_->robots.size())) setSelectedRobot(-1);
+    update();
+}
+
+void FieldView::setSelectedRobot(int robot) {
+    if (robot == selected_) return;
+    selected_ = robot;
+    emit robotSelected(robot);
+    update();
+}
+
+void FieldView::setShowTrails(bool on) {
+    showTrails_ = on;
+    update();
+}
+
+void FieldView::setShowVelocities(bool on) {
+    showVelocities_ = on;
+    update();
+}
+
+void FieldView::resetView() {
+    zoom_ = 1.0;
+    pan_ = QPointF();
+    update();
+}
+
+QTransform FieldView::worldToWidget() const {
+    const double length = snapshot_ && snapshot_->scene ? snapshot_->scene->field.length : 1.5;
+    const double width = snapshot_ && snapshot_->scene ? snapshot_->scene->field.width : 1.3;
+    // Fit the field and its margin, keeping the aspect ratio; y up.
+    const double scale = zoom_ * std::min(this->width() / (length + 2 * kMargin), height() / (width + 2 * kMargin));
+    QTransform t;
+    t.translate(this->width() / 2.0, height() / 2.0);
+    t.scale(scale, -scale);
+    t.translate(-pan_.x(), -pan_.y());
+    return t;
+}
+
+QPointF FieldView::toWidget(double x, double y) const { return worldToWidget().map(QPointF(x, y)); }
+
+QPointF FieldView::toField(const QPointF& widgetPoint) const { return worldToWidget().inverted().map(widgetPoint); }
+
+void FieldView::paintGL() {
+    QPainter p(this);
+    p.setRenderHint(QPainter::Antialiasing);
+    p.fillRect(rect(), QColor(70, 70, 70));
+    if (!snapshot_ || !snapshot_->scene) return;
+    p.setTransform(worldToWidget());
+    paintField(p);
+    paintBodies(p);
+}
+
+void FieldView::paintField(QPainter& p) const {
+    const Field& field = snapshot_->scene->field;
+    const QRectF area(-field.length / 2, -field.width / 2, field.length, field.width);
+    p.fillRect(area, qcolor(kFloorColour));
+    QPen line(QColor(255, 255, 255), 0.004);
+    p.setPen(line);
+    p.setBrush(Qt::NoBrush);
+    p.drawLine(QPointF(0, -field.width / 2), QPointF(0, field.width / 2));
+    p.drawEllipse(QPointF(0, 0), 0.2, 0.2);
+    p.setPen(QPen(qcolor(kWallColour), 0.012));
+    for (const Wall& w : field.walls) p.drawLine(QPointF(w.a.x(), w.a.y()), QPointF(w.b.x(), w.b.y()));
+}
+
+void FieldView::paintBodies(QPainter& p) const {
+    const Snapshot& s = *snapshot_;
+    const Scene& scene = *s.scene;
+    if (showTrails_) {
+        for (std::size_t i = 0; i < trails_.size(); ++i) {
+            const bool ball = i + 1 == trails_.size();
+            QColor c = ball ? qcolor(kBallColour) : qcolor(teamColour(scene.robots[i].team));
+            c.setAlpha(110);
+            p.setPen(QPen(c, 0.003));
+            QPainterPath path;
+            for (std::size_t k = 0; k < trails_[i].size(); ++k)
+                k == 0 ? path.moveTo(trails_[i][k]) : path.lineTo(trails_[i][k]);
+            p.drawPath(path);
+        }
+    }
+    for (std::size_t i = 0; i < s.robots.size() && i < scene.robots.size(); ++i) {
+        const RobotState& r = s.robots[i];
+        const double side = scene.robots[i].params.side;
+        p.save();
+        p.translate(r.x, r.y);
+        p.rotate(r.theta * 180.0 / 3.141592653589793);
+        // Body, team patch (rear), identity patch (front): as the camera draws them.
+        p.setPen(Qt::NoPen);
+        p.setBrush(qcolor(kRobotBodyColour));
+        p.drawRect(QRectF(-side / 2, -side / 2, side, side));
+        p.setBrush(qcolor(teamColour(scene.robots[i].team)));
+        p.drawRect(QRectF(-0.45 * side, -0.40 * side, 0.40 * side, 0.80 * side));
+        p.setBrush(qcolor(identityColour(identityIndex(scene, static_cast<int>(i)))));
+        p.drawRect(QRectF(0.05 * side, -0.40 * side, 0.40 * side, 0.80 * side));
+        // Heading mark: a white tick at the front edge.
+        p.setPen(QPen(Qt::white, 0.004));
+        p.drawLine(QPointF(0.5 * side, 0), QPointF(0.68 * side, 0));
+        const bool manual = i < s.control.size() && s.control[i].controller == RobotController::Manual;
+        if (static_cast<int>(i) == selected_ || manual) {
+            p.setPen(QPen(manual ? QColor(255, 80, 80) : QColor(120, 200, 255), 0.005, manual ? Qt::DashLine : Qt::SolidLine));
+            p.setBrush(Qt::NoBrush);
+            p.drawEllipse(QPointF(0, 0), 0.75 * side, 0.75 * side);
+        }
+        p.restore();
+        if (showVelocities_ && std::abs(r.v) > 1e-3) {
+            p.setPen(QPen(QColor(255, 255, 255, 180), 0.004));
+            const double len = r.v / kSpeedPerArrowMetre;
+            p.drawLine(QPointF(r.x, r.y), QPointF(r.x + len * std::cos(r.theta), r.y + len * std::sin(r.theta)));
+        }
+    }
+    p.setPen(Qt::NoPen);
+    p.setBrush(qcolor(kBallColour));
+    p.drawEllipse(QPointF(s.ball.x, s.ball.y), scene.ball_params.radius, scene.ball_params.radius);
+    if (showVelocities_ && std::hypot(s.ball.vx, s.ball.vy) > 1e-3) {
+        p.setPen(QPen(QColor(255, 200, 120), 0.004));
+        p.drawLine(QPointF(s.ball.x, s.ball.y),
+                   QPointF(s.ball.x + s.ball.vx / kSpeedPerArrowMetre, s.ball.y + s.ball.vy / kSpeedPerArrowMetre));
+    }
+    // The arrow being dragged.
+    if (drag_ == Drag::RobotArrow || drag_ == Drag::BallArrow) {
+        const QPointF from = drag_ == Drag::BallArrow ? QPointF(s.ball.x, s.ball.y)
+                                                      : QPointF(s.robots[dragRobot_].x, s.robots[dragRobot_].y);
+        p.setPen(QPen(QColor(255, 255, 0), 0.006));
+        p.drawLine(from, dragLast_);
+    }
+}
+
+int FieldView::robotAt(const QPointF& f) const {
+    if (!snapshot_ || !snapshot_->scene) return -1;
+    for (int i = static_cast<int>(snapshot_->robots.size()) - 1; i >= 0; --i) {
+        const RobotState& r = snapshot_->robots[i];
+        const double side = snapshot_->scene->robots[i].params.side;
+        // In the robot's frame, with a little slack for grabbing.
+        const double dx = f.x() - r.x, dy = f.y() - r.y;
+        const double along = dx * std::cos(r.theta) + dy * std::sin(r.theta);
+        const double across = -dx * std::sin(r.theta) + dy * std::cos(r.theta);
+        if (std::abs(along) <= 0.6 * side && std::abs(across) <= 0.6 * side) return i;
+    }
+    return -1;
+}
+
+bool FieldView::ballAt(const QPointF& f) const {
+    if (!snapshot_ || !snapshot_->scene) return false;
+    return std::hypot(f.x() - snapshot_->ball.x, f.y() - snapshot_->ball.y) <= 1.5 * snapshot_->scene->ball_params.radius;
+}
+
+RobotState FieldView::clampInside(int robot, RobotState pose) const {
+    const Scene& scene = *snapshot_->scene;
+    const double side = scene.robots[robot].params.side;
+    const double reach = 0.5 * side * (std::abs(std::cos(pose.theta)) + std::abs(std::sin(pose.theta)));
+    pose.x = std::clamp(pose.x, -scene.field.length / 2 + reach, scene.field.length / 2 - reach);
+    pose.y = std::clamp(pose.y, -scene.field.width / 2 + reach, scene.field.width / 2 - reach);
+    return pose;
+}
+
+BallState FieldView::clampInside(BallState ball) const {
+    const Scene& scene = *snapshot_->scene;
+    const double r = scene.ball_params.radius;
+    ball.x = std::clamp(ball.x, -scene.field.length / 2 + r, scene.field.length / 2 - r);
+    ball.y = std::clamp(ball.y, -scene.field.width / 2 + r, scene.field.width / 2 - r);
+    return ball;
+}
+
+void FieldView::mousePressEvent(QMouseEvent* event) {
+    setFocus();
+    if (!snapshot_) return;
+    const QPointF f = toField(event->position());
+    if (event->button() == Qt::RightButton || event->button() == Qt::MiddleButton) {
+        drag_ = Drag::Pan;
+        dragLast_ = event->position();
+        return;
+    }
+    if (event->button() != Qt::LeftButton) return;
+    const bool arrow = event->modifiers() & Qt::ShiftModifier;
+    const int robot = robotAt(f);
+    if (robot >= 0) {
+        setSelectedRobot(robot);
+        dragRobot_ = robot;
+        dragRobotPose_ = snapshot_->robots[robot];
+        dragOffset_ = QPointF(dragRobotPose_.x, dragRobotPose_.y) - f;
+        drag_ = arrow ? Drag::RobotArrow : Drag::Robot;
+        dragLast_ = f;
+        emit robotDragStarted(robot, dragRobotPose_);
+    } else if (ballAt(f)) {
+        dragBall_ = snapshot_->ball;
+        dragOffset_ = QPointF(dragBall_.x, dragBall_.y) - f;
+        drag_ = arrow ? Drag::BallArrow : Drag::Ball;
+        dragLast_ = f;
+        emit ballDragStarted(dragBall_);
+    } else {
+        setSelectedRobot(-1);
+    }
+}
+
+void FieldView::mouseMoveEvent(QMouseEvent* event) {
+    if (!snapshot_ || drag_ == Drag::None) return;
+    const QPointF f = toField(event->position());
+    switch (drag_) {
+        case Drag::Pan: {
+            const QPointF before = toField(dragLast_);
+            pan_ += before - f;
+            dragLast_ = event->position();
+            update();
+            return;
+        }
+        case Drag::Robot: {
+            RobotState pose = snapshot_->robots[dragRobot_];
+            pose.x = f.x() + dragOffset_.x();
+            pose.y = f.y() + dragOffset_.y();
+            pose.theta = dragRobotPose_.theta;
+            pose.v = 0;
+            pose.omega = 0;
+            emit robotPlaced(dragRobot_, clampInside(dragRobot_, pose), false);
+            return;
+        }
+        case Drag::Ball: {
+            BallState ball{f.x() + dragOffset_.x(), f.y() + dragOffset_.y(), 0.0, 0.0};
+            emit ballPlaced(clampInside(ball), false);
+            return;
+        }
+        case Drag::RobotArrow:
+        case Drag::BallArrow:
+            dragLast_ = f;
+            update();
+            return;
+        case Drag::None:
+            return;
+    }
+}
+
+void FieldView::mouseReleaseEvent(QMouseEvent* event) {
+    if (!snapshot_) return;
+    const QPointF f = toField(event->position());
+    const Drag drag = drag_;
+    drag_ = Drag::None;
+    switch (drag) {
+        case Drag::Robot: {
+            RobotState pose = dragRobotPose_;
+            pose.x = f.x() + dragOffset_.x();
+            pose.y = f.y() + dragOffset_.y();
+            pose.v = 0;
+            pose.omega = 0;
+            emit robotPlaced(dragRobot_, clampInside(dragRobot_, pose), true);
+            break;
+        }
+        case Drag::Ball:
+            emit ballPlaced(clampInside(BallState{f.x() + dragOffset_.x(), f.y() + dragOffset_.y(), 0.0, 0.0}), true);
+            break;
+        case Drag::RobotArrow: {
+            // A robot moves along its heading only: the arrow's projection on it.
+            RobotState pose = snapshot_->robots[dragRobot_];
+            const QPointF d = f - QPointF(pose.x, pose.y);
+            pose.v = std::clamp(kSpeedPerArrowMetre * (d.x() * std::cos(pose.theta) + d.y() * std::sin(pose.theta)), -10.0, 10.0);
+            pose.omega = 0;
+            emit robotPlaced(dragRobot_, pose, true);
+            break;
+        }
+        case Drag::BallArrow: {
+            BallState ball = snapshot_->ball;
+            QPointF v = kSpeedPerArrowMetre * (f - QPointF(ball.x, ball.y));
+            const double speed = std::hypot(v.x(), v.y());
+            if (speed > 20.0) v *= 20.0 / speed;  // the protocol's limit for a placed ball
+            ball.vx = v.x();
+            ball.vy = v.y();
+            emit ballPlaced(ball, true);
+            break;
+        }
+        case Drag::Pan:
+        case Drag::None:
+            break;
+    }
+    update();
+}
+
+void FieldView::mouseDoubleClickEvent(QMouseEvent*) { resetView(); }
+
+void FieldView::wheelEvent(QWheelEvent* event) {
+    if (!snapshot_) return;
+    const QPointF f = toField(event->position());
+    const double notches = event->angleDelta().y() / 120.0;
+    const int robot = robotAt(f);
+    if (robot >= 0) {
+        setSelectedRobot(robot);
+        RobotState pose = snapshot_->robots[robot];
+        emit robotDragStarted(robot, pose);
+        pose.theta = std::remainder(pose.theta + notches * kRotateStep, 2 * 3.141592653589793);
+        emit robotPlaced(robot, clampInside(robot, pose), true);
+        return;
+    }
+    // Zoom about the cursor: the field point under it stays put.
+    zoom_ = std::clamp(zoom_ * std::pow(1.2, notches), 0.5, 20.0);
+    pan_ += f - toField(event->position());
+    update();
+}
+
+void FieldView::keyPressEvent(QKeyEvent* event) {
+    if (event->isAutoRepeat()) return;
+    emit keyChanged(event->key(), true);
+}
+
+void FieldView::keyReleaseEvent(QKeyEvent* event) {
+    if (event->isAutoRepeat()) return;
+    emit keyChanged(event->key(), false);
+}
+
+}  // namespace vssim

@@ -1,0 +1,75 @@
+#include "gui_command.h"
+
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QHostAddress>
+#include <QSurfaceFormat>
+#include <QTextStream>
+#include <cstdlib>
+
+#include "main_window.h"
+#include "run_command.h"
+#include "scene_io.h"
+
+namespace vssim {
+
+bool displayAvailable() {
+    auto set = [](const char* name) {
+        const char* v = std::getenv(name);
+        return v && *v;
+    };
+    return set("DISPLAY") || set("WAYLAND_DISPLAY") || set("QT_QPA_PLATFORM");
+}
+
+int guiCommand(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("vssim");
+    QApplication::setOrganizationName("vssim");
+    QApplication::setApplicationVersion(VSSIM_VERSION);
+    QStringList args = QApplication::arguments();
+    if (args.size() >= 2 && args[1] == "gui") args.removeAt(1);
+    QCommandLineParser parser;
+    parser.setApplicationDescription("The vssim desktop app: the field, dragging robots, driving by hand, live plots; "
+                                     "it also serves TCP clients (docs/protocol.md).");
+    parser.addHelpOption();
+    parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
+    const QCommandLineOption port("port", "TCP port for clients (default 10030; 0: any free port).", "N");
+    const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
+    parser.addOptions({port, listen});
+    QTextStream err(stderr);
+    if (!parser.parse(args)) {
+        err << "vssim gui: " << parser.errorText() << "\n";
+        return 2;
+    }
+    if (parser.isSet("help")) {
+        QTextStream(stdout) << parser.helpText();
+        return 0;
+    }
+    ServerSettings server;
+    if (parser.isSet(port)) {
+        bool ok = false;
+        const uint value = parser.value(port).toUInt(&ok);
+        if (!ok || value > 65535) {
+            err << "vssim gui: --port: expected 0 to 65535, got \"" << parser.value(port) << "\"\n";
+            return 2;
+        }
+        server.port = static_cast<quint16>(value);
+    }
+    if (parser.isSet(listen) && !server.address.setAddress(parser.value(listen))) {
+        err << "vssim gui: --listen: \"" << parser.value(listen) << "\" is not an IP address\n";
+        return 2;
+    }
+    const QString name = parser.positionalArguments().value(0, "kickoff_3v3");
+    const QString path = resolveScenePath(name);
+    QString error;
+    const std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
+    if (!scene) {
+        err << "vssim gui: " << (path.isEmpty() ? QStringLiteral("no scene file or built-in scene \"%1\"").arg(name) : error) << "\n";
+        return 2;
+    }
+    MainWindow window(*scene, path, server);
+    window.show();
+    return QApplication::exec();
+}
+
+}  // namespace vssim

@@ -1,0 +1,483 @@
+#include "main_window.h"
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QPushButton>
+#include <QSaveFile>
+#include <QSettings>
+#include <QSplitter>
+#include <QStatusBar>
+#include <QToolBar>
+#include <QUndoCommand>
+#include <QVBoxLayout>
+
+#include "camera_view.h"
+#include "connections_panel.h"
+#include "field_view.h"
+#include "gamepad_input.h"
+#include "joystick_widget.h"
+#include "live_plots.h"
+#include "robot_inspector.h"
+#include "run_command.h"
+#include "scene_io.h"
+#include "scene_parameters_dialog.h"
+#include "status_text.h"
+
+namespace vssim {
+
+namespace {
+
+// Moving a body by hand, undoable. The body is already where the person
+// dropped it when the command is pushed, so the first redo does nothing.
+class PlaceBodyCommand : public QUndoCommand {
+public:
+    PlaceBodyCommand(AppSession& session, int robot, RobotState before, RobotState after, const QString& name)
+        : QUndoCommand(QObject::tr("Move %1").arg(name)), session_(session), robot_(robot), robotBefore_(before),
+          robotAfter_(after) {}
+    PlaceBodyCommand(AppSession& session, BallState before, BallState after)
+        : QUndoCommand(QObject::tr("Move the ball")), session_(session), robot_(-1), ballBefore_(before), ballAfter_(after) {}
+    void undo() override { place(true); }
+    void redo() override {
+        if (first_) {
+            first_ = false;
+            return;
+        }
+        place(false);
+    }
+
+private:
+    void place(bool before) {
+        if (robot_ >= 0) session_.placeRobot(robot_, before ? robotBefore_ : robotAfter_);
+        else session_.placeBall(before ? ballBefore_ : ballAfter_);
+    }
+    AppSession& session_;
+    int robot_;
+    RobotState robotBefore_, robotAfter_;
+    BallState ballBefore_, ballAfter_;
+    bool first_ = true;
+};
+
+const struct {
+    const char* label;
+    double speed;  // 0: as fast as possible
+} kSpeeds[] = {{"x0.1", 0.1}, {"x0.25", 0.25}, {"x0.5", 0.5}, {"x1", 1.0}, {"x2", 2.0}, {"x4", 4.0}, {"max", 0.0}};
+
+}  // namespace
+
+MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const ServerSettings& server, QWidget* parent)
+    : QMainWindow(parent), scenePath_(scenePath) {
+    session_ = std::make_unique<AppSession>(scene, server);
+    field_ = new FieldView(this);
+    setCentralWidget(field_);
+    buildDocks();
+    buildActions();
+    buildToolBar();
+    status_ = new QLabel(this);
+    statusBar()->addWidget(status_, 1);
+    if (!session_->listening())
+        statusBar()->showMessage(tr("TCP server not started: %1").arg(session_->listenError()), 15000);
+
+    connect(field_, &FieldView::robotSelected, this, [this](int) {
+        plots_->clear();
+        refresh();
+    });
+    connect(field_, &FieldView::robotDragStarted, this, [this](int robot, const RobotState& before) {
+        dragRobot_ = robot;
+        dragBefore_ = before;
+    });
+    connect(field_, &FieldView::robotPlaced, this, [this](int robot, const RobotState& pose, bool finished) {
+        session_->placeRobot(robot, pose);
+        if (finished && dragBefore_ && dragRobot_ == robot) {
+            undo_.push(new PlaceBodyCommand(*session_, robot, *dragBefore_, pose,
+                                            QString::fromStdString(session_->scene().robots[robot].name)));
+            dragBefore_.reset();
+        }
+    });
+    connect(field_, &FieldView::ballDragStarted, this, [this](const BallState& before) { ballBefore_ = before; });
+    connect(field_, &FieldView::ballPlaced, this, [this](const BallState& ball, bool finished) {
+        session_->placeBall(ball);
+        if (finished && ballBefore_) {
+            undo_.push(new PlaceBodyCommand(*session_, *ballBefore_, ball));
+            ballBefore_.reset();
+        }
+    });
+    connect(field_, &FieldView::keyChanged, this, &MainWindow::onKey);
+
+    camera_->setScene(session_->scene());
+    showSettings(session_->scene().simulation);
+    connections_->setListening(session_->listening()
+                                   ? tr("Listening on %1:%2 (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port())
+                                   : tr("Not listening: %1").arg(session_->listenError()));
+    wall_.start();
+    connect(&timer_, &QTimer::timeout, this, &MainWindow::refresh);
+    setRefreshRate(30.0);
+    updateTitle();
+    resize(1280, 860);
+}
+
+MainWindow::~MainWindow() {
+    timer_.stop();
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+    timer_.stop();
+    if (gamepad_) gamepad_->stop();
+    event->accept();
+}
+
+void MainWindow::setRefreshRate(double hz) {
+    timer_.start(static_cast<int>(1000.0 / hz));
+}
+
+void MainWindow::buildDocks() {
+    auto dock = [this](const QString& title, QWidget* widget, Qt::DockWidgetArea area, const char* name) {
+        auto* d = new QDockWidget(title, this);
+        d->setObjectName(name);
+        d->setWidget(widget);
+        addDockWidget(area, d);
+        return d;
+    };
+    auto* robotPanel = new QSplitter(Qt::Vertical);
+    inspector_ = new RobotInspector(robotPanel);
+    plots_ = new LivePlots(robotPanel);
+    robotPanel->addWidget(inspector_);
+    robotPanel->addWidget(plots_);
+    QDockWidget* robotDock = dock(tr("Selected robot"), robotPanel, Qt::RightDockWidgetArea, "dock.robot");
+
+    camera_ = new CameraView;
+    QDockWidget* cameraDock = dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
+    tabifyDockWidget(robotDock, cameraDock);
+    robotDock->raise();
+
+    connections_ = new ConnectionsPanel;
+    dock(tr("TCP connections"), connections_, Qt::BottomDockWidgetArea, "dock.connections");
+
+    auto* drive = new QWidget;
+    auto* layout = new QVBoxLayout(drive);
+    driveStatus_ = new QLabel(drive);
+    driveStatus_->setObjectName("drive.status");
+    driveStatus_->setWordWrap(true);
+    layout->addWidget(driveStatus_);
+    auto* form = new QFormLayout;
+    mapping_ = new QComboBox(drive);
+    mapping_->addItems({tr("Arcade (one stick: forward and turn)"), tr("Tank (left stick: left wheel, right stick: right wheel)")});
+    form->addRow(tr("Stick mapping"), mapping_);
+    gamepadStatus_ = new QLabel(drive);
+    form->addRow(tr("Gamepad"), gamepadStatus_);
+    layout->addLayout(form);
+    joystick_ = new JoystickWidget(drive);
+    joystick_->setToolTip(tr("On-screen joystick (arcade): drag the knob to drive the selected robot"));
+    layout->addWidget(joystick_, 1);
+    auto* release = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
+    layout->addWidget(release);
+    dock(tr("Drive by hand"), drive, Qt::LeftDockWidgetArea, "dock.drive");
+    connect(release, &QPushButton::clicked, this, &MainWindow::releaseManual);
+    connect(joystick_, &JoystickWidget::moved, this, [this](double x, double y) { onStick(x, y, false); });
+
+    gamepad_ = new GamepadInput(this);
+    gamepadStatus_->setText(gamepad_->available() ? tr("none connected (plug one in)")
+                                                  : tr("unavailable: %1").arg(gamepad_->errorString()));
+    connect(gamepad_, &GamepadInput::connectedChanged, this, [this](bool connected, const QString& name) {
+        gamepadStatus_->setText(connected ? name : tr("none connected (plug one in)"));
+    });
+    connect(gamepad_, &GamepadInput::axesChanged, this, [this](double lx, double ly, double rx, double ry) {
+        if (mapping_->currentIndex() == 0) onStick(lx, ly, true);
+        else onStick(ry, ly, true);  // tank: x is the right wheel's stick, y the left's (drive_mapping.h)
+        (void)rx;
+    });
+    gamepad_->start();
+}
+
+void MainWindow::buildActions() {
+    QMenu* file = menuBar()->addMenu(tr("&File"));
+    file->addAction(tr("&Open scene..."), QKeySequence::Open, this, [this] {
+        const QString path = QFileDialog::getOpenFileName(this, tr("Open scene"), QString(), tr("Scenes (*.json)"));
+        if (!path.isEmpty()) openScene(path);
+    });
+    QMenu* examples = file->addMenu(tr("&Example scenes"));
+    for (const QString& name : builtinSceneNames()) examples->addAction(name, this, [this, name] { openScene(name); });
+    recentMenu_ = file->addMenu(tr("&Recent scenes"));
+    updateRecentMenu();
+    file->addAction(tr("&Save scene as..."), QKeySequence::SaveAs, this, [this] {
+        const QString path = QFileDialog::getSaveFileName(this, tr("Save scene (bodies where they are now)"), QString(),
+                                                          tr("Scenes (*.json)"));
+        if (path.isEmpty()) return;
+        QString error;
+        if (!saveScene(path, &error)) QMessageBox::warning(this, tr("Save scene"), error);
+    });
+    file->addSeparator();
+    file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    QAction* undo = undo_.createUndoAction(this, tr("&Undo"));
+    undo->setShortcut(QKeySequence::Undo);
+    QAction* redo = undo_.createRedoAction(this, tr("&Redo"));
+    redo->setShortcut(QKeySequence::Redo);
+    edit->addAction(undo);
+    edit->addAction(redo);
+    edit->addSeparator();
+    edit->addAction(tr("Robot, ball and field &parameters..."), this, [this] {
+        SceneParametersDialog dialog(session_->scene(), this);
+        if (dialog.exec() != QDialog::Accepted) return;
+        session_->loadScene(dialog.scene());
+        camera_->setScene(session_->scene());
+        plots_->clear();
+        undo_.clear();
+        showSettings(session_->scene().simulation);
+    });
+
+    QMenu* view = menuBar()->addMenu(tr("&View"));
+    QAction* trails = view->addAction(tr("&Trails"));
+    trails->setCheckable(true);
+    trails->setChecked(true);
+    connect(trails, &QAction::toggled, field_, &FieldView::setShowTrails);
+    QAction* arrows = view->addAction(tr("&Velocity arrows"));
+    arrows->setCheckable(true);
+    arrows->setChecked(true);
+    connect(arrows, &QAction::toggled, field_, &FieldView::setShowVelocities);
+    view->addAction(tr("&Reset zoom and pan"), field_, &FieldView::resetView);
+    QMenu* rate = view->addMenu(tr("Refresh &rate"));
+    for (double hz : {2.0, 10.0, 30.0, 60.0})
+        rate->addAction(tr("%1 Hz").arg(hz), this, [this, hz] { setRefreshRate(hz); });
+
+    QMenu* help = menuBar()->addMenu(tr("&Help"));
+    help->addAction(tr("&Controls"), this, [this] { QMessageBox::information(this, tr("Controls"), field_->toolTip()); });
+    help->addAction(tr("&About vssim"), this, [this] {
+        QMessageBox::about(this, tr("About vssim"),
+                           tr("vssim %1: a simulator of IEEE Very Small Size Soccer robots, driven by motor voltages.\n"
+                              "Clients connect over TCP (docs/protocol.md).")
+                               .arg(VSSIM_VERSION));
+    });
+}
+
+void MainWindow::buildToolBar() {
+    QToolBar* bar = addToolBar(tr("Run"));
+    bar->setObjectName("toolbar.run");
+    playPause_ = bar->addAction(tr("Pause"), this, [this] {
+        const auto s = session_->latest();
+        session_->post(s && s->paused ? EngineRequest::Kind::Resume : EngineRequest::Kind::Pause);
+    });
+    playPause_->setShortcut(Qt::Key_Space);
+    playPause_->setObjectName("action.playPause");
+    step_ = bar->addAction(tr("Step 30 ms"), this, [this] {
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::Step;
+        r.duration = 0.03;
+        session_->post(std::move(r));
+    });
+    step_->setObjectName("action.step");
+    QAction* reset = bar->addAction(tr("Reset"), this, [this] {
+        session_->post(EngineRequest::Kind::Reset);
+        plots_->clear();
+    });
+    reset->setObjectName("action.reset");
+    bar->addSeparator();
+    bar->addWidget(new QLabel(tr(" Speed ")));
+    speed_ = new QComboBox(bar);
+    for (const auto& s : kSpeeds) speed_->addItem(s.label);
+    speed_->setCurrentIndex(3);
+    bar->addWidget(speed_);
+    connect(speed_, &QComboBox::currentIndexChanged, this, [this](int i) { session_->setSpeed(kSpeeds[i].speed); });
+    bar->addSeparator();
+    integrator_ = new QComboBox(bar);
+    integrator_->addItems({"euler", "rk4", "exact"});
+    integrator_->setToolTip(tr("Integrator (docs/model.md)"));
+    bar->addWidget(integrator_);
+    dt_ = new QDoubleSpinBox(bar);
+    dt_->setDecimals(5);
+    dt_->setRange(0.00001, 0.03);
+    dt_->setSingleStep(0.0005);
+    dt_->setSuffix(" s");
+    dt_->setToolTip(tr("Integration step dt"));
+    bar->addWidget(dt_);
+    collision_ = new QComboBox(bar);
+    collision_->addItems({"paper", "impulse"});
+    collision_->setToolTip(tr("Collision model"));
+    bar->addWidget(collision_);
+    restitution_ = new QDoubleSpinBox(bar);
+    restitution_->setRange(0.0, 1.0);
+    restitution_->setSingleStep(0.05);
+    restitution_->setPrefix(tr("e = "));
+    restitution_->setToolTip(tr("Restitution (impulse model only)"));
+    bar->addWidget(restitution_);
+    for (QComboBox* c : {integrator_, collision_})
+        connect(c, &QComboBox::activated, this, &MainWindow::applySettingsFromToolbar);
+    for (QDoubleSpinBox* s : {dt_, restitution_})
+        connect(s, &QDoubleSpinBox::editingFinished, this, &MainWindow::applySettingsFromToolbar);
+}
+
+void MainWindow::showSettings(const SimulationSettings& settings) {
+    integrator_->setCurrentText(integratorName(settings.integrator));
+    dt_->setValue(settings.dt);
+    collision_->setCurrentText(collisionModelName(settings.collision_model));
+    restitution_->setValue(settings.restitution);
+    restitution_->setEnabled(settings.collision_model == CollisionModel::Impulse);
+}
+
+void MainWindow::applySettingsFromToolbar() {
+    SimulationSettings settings = session_->scene().simulation;
+    settings.integrator = *integratorFromName(integrator_->currentText());
+    settings.dt = dt_->value();
+    settings.collision_model = *collisionModelFromName(collision_->currentText());
+    settings.restitution = restitution_->value();
+    restitution_->setEnabled(settings.collision_model == CollisionModel::Impulse);
+    const SimulationSettings& now = session_->scene().simulation;
+    if (settings.integrator == now.integrator && settings.dt == now.dt &&
+        settings.collision_model == now.collision_model && settings.restitution == now.restitution)
+        return;
+    session_->applySettings(settings);
+    statusBar()->showMessage(tr("New simulation settings: the bodies stay where they are, the clock restarts at 0"), 5000);
+}
+
+bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
+    const QString path = resolveScenePath(pathOrName);
+    QString error;
+    std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
+    if (!scene) {
+        if (path.isEmpty()) error = tr("no scene file or built-in scene \"%1\"").arg(pathOrName);
+        if (interactive) QMessageBox::warning(this, tr("Open scene"), error);
+        return false;
+    }
+    releaseManual();
+    session_->loadScene(*scene);
+    camera_->setScene(*scene);
+    plots_->clear();
+    undo_.clear();
+    field_->setSelectedRobot(-1);
+    showSettings(scene->simulation);
+    scenePath_ = path;
+    if (!path.startsWith(":/")) addRecent(QFileInfo(path).absoluteFilePath());
+    updateTitle();
+    return true;
+}
+
+bool MainWindow::saveScene(const QString& path, QString* error) {
+    const auto snapshot = session_->latest();
+    Scene scene = session_->scene();
+    if (snapshot && snapshot->robots.size() == scene.robots.size()) {
+        for (std::size_t i = 0; i < scene.robots.size(); ++i) scene.robots[i].initial = snapshot->robots[i];
+        scene.ball = snapshot->ball;
+    }
+    QSaveFile file(path);
+    if (!file.open(QIODevice::WriteOnly) || file.write(sceneToJson(scene)) < 0 || !file.commit()) {
+        *error = tr("%1: cannot write: %2").arg(path, file.errorString());
+        return false;
+    }
+    scenePath_ = path;
+    addRecent(QFileInfo(path).absoluteFilePath());
+    updateTitle();
+    return true;
+}
+
+void MainWindow::addRecent(const QString& path) {
+    QSettings settings;
+    QStringList recent = settings.value("recentScenes").toStringList();
+    recent.removeAll(path);
+    recent.prepend(path);
+    while (recent.size() > 8) recent.removeLast();
+    settings.setValue("recentScenes", recent);
+    updateRecentMenu();
+}
+
+void MainWindow::updateRecentMenu() {
+    recentMenu_->clear();
+    const QStringList recent = QSettings().value("recentScenes").toStringList();
+    for (const QString& path : recent) recentMenu_->addAction(path, this, [this, path] { openScene(path); });
+    recentMenu_->setEnabled(!recent.isEmpty());
+}
+
+void MainWindow::updateTitle() {
+    setWindowTitle(tr("vssim - %1").arg(scenePath_.startsWith(":/") ? QFileInfo(scenePath_).baseName() : scenePath_));
+}
+
+void MainWindow::onKey(int key, bool pressed) {
+    if (key == Qt::Key_Escape && pressed) {
+        releaseManual();
+        return;
+    }
+    if (!keyboard_.handleKey(key, pressed)) return;
+    const int selected = field_->selectedRobot();
+    if (manualRobot_ < 0 && selected >= 0 && keyboard_.active()) manualRobot_ = selected;
+    if (manualRobot_ >= 0) {
+        const double max = session_->scene().robots[manualRobot_].params.max_voltage;
+        sendManual(keyboard_.voltages(max));
+    }
+}
+
+void MainWindow::onStick(double x, double y, bool fromGamepad) {
+    (void)fromGamepad;
+    const int selected = field_->selectedRobot();
+    stickActive_ = std::abs(x) > 0.05 || std::abs(y) > 0.05;
+    if (manualRobot_ < 0 && selected >= 0 && stickActive_) manualRobot_ = selected;
+    if (manualRobot_ < 0) return;
+    const double max = session_->scene().robots[manualRobot_].params.max_voltage;
+    stickVolts_ = stickActive_ ? stickToVoltages(x, y, mapping_->currentIndex() == 0 ? DriveMapping::Arcade : DriveMapping::Tank, max)
+                               : Voltages{};
+    sendManual(stickVolts_);
+}
+
+void MainWindow::sendManual(const Voltages& volts) {
+    if (manualRobot_ >= 0) session_->driveManually(manualRobot_, volts);
+}
+
+void MainWindow::releaseManual() {
+    if (manualRobot_ >= 0) session_->releaseManual(manualRobot_);
+    manualRobot_ = -1;
+    keyboard_.releaseAll();
+    stickActive_ = false;
+}
+
+void MainWindow::refresh() {
+    const std::shared_ptr<const Snapshot> snapshot = session_->latest();
+    if (!snapshot) return;
+    ++tick_;
+    // Real-time factor over the last half second or so.
+    const qint64 nowMs = wall_.elapsed();
+    if (nowMs - lastWallMs_ >= 500) {
+        if (snapshot->time >= lastSimTime_ && lastWallMs_ > 0)
+            factor_ = (snapshot->time - lastSimTime_) / (1e-3 * static_cast<double>(nowMs - lastWallMs_));
+        lastSimTime_ = snapshot->time;
+        lastWallMs_ = nowMs;
+    }
+    field_->showSnapshot(snapshot);
+    // A robot driven by hand keeps getting its voltages (and stays manual).
+    if (manualRobot_ >= 0 && manualRobot_ < static_cast<int>(snapshot->robots.size())) {
+        const double max = session_->scene().robots[manualRobot_].params.max_voltage;
+        sendManual(keyboard_.active() ? keyboard_.voltages(max) : stickActive_ ? stickVolts_ : Voltages{});
+    }
+    const int selected = field_->selectedRobot();
+    inspector_->showRobot(*snapshot, selected);
+    if (selected >= 0) plots_->addSample(*snapshot, selected);
+    if (camera_->isVisible() && tick_ % 6 == 0) camera_->showSnapshot(*snapshot);
+    if (nowMs - lastConnectionsMs_ >= 1000) {
+        connections_->setClients(session_->server().clients(), 1e-3 * static_cast<double>(nowMs - lastConnectionsMs_));
+        lastConnectionsMs_ = nowMs;
+    }
+    status_->setText(statusText(*snapshot, factor_));
+    playPause_->setText(snapshot->paused ? tr("Play") : tr("Pause"));
+    step_->setEnabled(snapshot->paused);
+    const Scene* scene = snapshot->scene.get();
+    if (manualRobot_ >= 0 && scene && manualRobot_ < static_cast<int>(scene->robots.size())) {
+        const bool tcp = manualRobot_ < static_cast<int>(snapshot->control.size()) && snapshot->control[manualRobot_].tcpWhileManual;
+        driveStatus_->setText(tr("Driving %1 by hand%2. Esc or the button below lets go.")
+                                  .arg(QString::fromStdString(scene->robots[manualRobot_].name))
+                                  .arg(tcp ? tr(": its TCP voltages are ignored") : QString()));
+    } else {
+        driveStatus_->setText(selected >= 0 ? tr("W A S D or the arrow keys (field focused), the joystick below or a gamepad drive %1.")
+                                                  .arg(QString::fromStdString(scene->robots[selected].name))
+                                            : tr("Click a robot to select it, then drive it with W A S D, the arrow keys, "
+                                                 "the joystick below or a gamepad."));
+    }
+}
+
+}  // namespace vssim

@@ -1,0 +1,109 @@
+// The desktop app's window: the field view in the middle, the selected
+// robot's inspector and live plots, the camera image the clients receive,
+// the TCP connections, manual driving (keyboard, gamepad, on-screen
+// joystick), and the run controls. It reads the engine's snapshots on a
+// timer (default 30 Hz) and turns what the person does into requests.
+#pragma once
+
+#include <QElapsedTimer>
+#include <QMainWindow>
+#include <QTimer>
+#include <QUndoStack>
+#include <memory>
+#include <optional>
+
+#include "app_session.h"
+#include "drive_mapping.h"
+#include "keyboard_driver.h"
+
+class QAction;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QMenu;
+class QCheckBox;
+
+namespace vssim {
+
+class CameraView;
+class ConnectionsPanel;
+class FieldView;
+class GamepadInput;
+class JoystickWidget;
+class LivePlots;
+class RobotInspector;
+
+class MainWindow : public QMainWindow {
+    Q_OBJECT
+public:
+    // `scenePath`: where the scene came from (for the title and Save).
+    MainWindow(const Scene& scene, const QString& scenePath, const ServerSettings& server, QWidget* parent = nullptr);
+    ~MainWindow() override;
+
+    AppSession& session() { return *session_; }
+    FieldView& fieldView() { return *field_; }
+    // Loads a scene file (a path or a built-in name); false and a message box on error.
+    bool openScene(const QString& pathOrName, bool interactive = true);
+    bool saveScene(const QString& path, QString* error);
+    // The manual-driving state, for tests and the UI.
+    int manualRobot() const { return manualRobot_; }
+    void releaseManual();
+    void setRefreshRate(double hz);
+
+protected:
+    void closeEvent(QCloseEvent* event) override;
+
+private:
+    void buildActions();
+    void buildDocks();
+    void buildToolBar();
+    void refresh();
+    void onKey(int key, bool pressed);
+    void onStick(double x, double y, bool fromGamepad);
+    void sendManual(const Voltages& volts);
+    void applySettingsFromToolbar();
+    void showSettings(const SimulationSettings& settings);
+    void updateRecentMenu();
+    void addRecent(const QString& path);
+    void updateTitle();
+
+    std::unique_ptr<AppSession> session_;
+    QString scenePath_;
+    FieldView* field_ = nullptr;
+    RobotInspector* inspector_ = nullptr;
+    LivePlots* plots_ = nullptr;
+    CameraView* camera_ = nullptr;
+    ConnectionsPanel* connections_ = nullptr;
+    JoystickWidget* joystick_ = nullptr;
+    GamepadInput* gamepad_ = nullptr;
+    QLabel* driveStatus_ = nullptr;
+    QLabel* gamepadStatus_ = nullptr;
+    QComboBox* mapping_ = nullptr;
+    QComboBox* speed_ = nullptr;
+    QComboBox* integrator_ = nullptr;
+    QDoubleSpinBox* dt_ = nullptr;
+    QComboBox* collision_ = nullptr;
+    QDoubleSpinBox* restitution_ = nullptr;
+    QLabel* status_ = nullptr;
+    QAction* playPause_ = nullptr;
+    QAction* step_ = nullptr;
+    QMenu* recentMenu_ = nullptr;
+    QUndoStack undo_;
+    QTimer timer_;
+    int tick_ = 0;
+    KeyboardDriver keyboard_;
+    int manualRobot_ = -1;            // the robot a person drives, or -1
+    Voltages stickVolts_;             // from the joystick or gamepad
+    bool stickActive_ = false;
+    std::optional<RobotState> dragBefore_;
+    int dragRobot_ = -1;
+    std::optional<BallState> ballBefore_;
+    // Real-time factor: simulated time over wall time between refreshes.
+    QElapsedTimer wall_;
+    double lastSimTime_ = 0.0;
+    qint64 lastWallMs_ = 0;
+    double factor_ = 0.0;
+    qint64 lastConnectionsMs_ = 0;
+};
+
+}  // namespace vssim
