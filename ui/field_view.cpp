@@ -48,6 +48,7 @@ void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
         const QPointF p = i + 1 < bodies ? QPointF(snapshot->robots[i].x, snapshot->robots[i].y)
                                          : QPointF(snapshot->ball.x, snapshot->ball.y);
         auto& trail = trails_[i];
+        if (!trail.empty() && QLineF(trail.back(), p).length() > 0.05) trail.clear();  // moved by hand: no streak
         if (trail.empty() || QLineF(trail.back(), p).length() > 0.002) trail.push_back(p);
         if (trail.size() > kTrailPoints) trail.pop_front();
     }

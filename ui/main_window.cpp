@@ -116,13 +116,14 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
     camera_->setScene(session_->scene());
     showSettings(session_->scene().simulation);
     connections_->setListening(session_->listening()
-                                   ? tr("Listening on %1:%2 (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port())
+                                   ? tr("%1:%2 for TCP clients (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port())
                                    : tr("Not listening: %1").arg(session_->listenError()));
     wall_.start();
     connect(&timer_, &QTimer::timeout, this, &MainWindow::refresh);
     setRefreshRate(30.0);
     updateTitle();
     resize(1280, 860);
+    resizeDocks({robotDock_}, {430}, Qt::Horizontal);
 }
 
 MainWindow::~MainWindow() {
@@ -153,6 +154,7 @@ void MainWindow::buildDocks() {
     robotPanel->addWidget(inspector_);
     robotPanel->addWidget(plots_);
     QDockWidget* robotDock = dock(tr("Selected robot"), robotPanel, Qt::RightDockWidgetArea, "dock.robot");
+    robotDock_ = robotDock;
 
     camera_ = new CameraView;
     QDockWidget* cameraDock = dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
@@ -160,6 +162,7 @@ void MainWindow::buildDocks() {
     robotDock->raise();
 
     connections_ = new ConnectionsPanel;
+    connections_->setMaximumHeight(170);
     dock(tr("TCP connections"), connections_, Qt::BottomDockWidgetArea, "dock.connections");
 
     auto* drive = new QWidget;
@@ -176,11 +179,14 @@ void MainWindow::buildDocks() {
     form->addRow(tr("Gamepad"), gamepadStatus_);
     layout->addLayout(form);
     joystick_ = new JoystickWidget(drive);
+    joystick_->setMaximumSize(220, 220);
     joystick_->setToolTip(tr("On-screen joystick (arcade): drag the knob to drive the selected robot"));
-    layout->addWidget(joystick_, 1);
+    layout->addWidget(joystick_, 1, Qt::AlignHCenter);
     auto* release = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
     layout->addWidget(release);
-    dock(tr("Drive by hand"), drive, Qt::LeftDockWidgetArea, "dock.drive");
+    QDockWidget* driveDock = dock(tr("Drive by hand"), drive, Qt::RightDockWidgetArea, "dock.drive");
+    tabifyDockWidget(cameraDock, driveDock);
+    robotDock->raise();
     connect(release, &QPushButton::clicked, this, &MainWindow::releaseManual);
     connect(joystick_, &JoystickWidget::moved, this, [this](double x, double y) { onStick(x, y, false); });
 
@@ -221,8 +227,10 @@ void MainWindow::buildActions() {
     QMenu* edit = menuBar()->addMenu(tr("&Edit"));
     QAction* undo = undo_.createUndoAction(this, tr("&Undo"));
     undo->setShortcut(QKeySequence::Undo);
+    undo->setObjectName("action.undo");
     QAction* redo = undo_.createRedoAction(this, tr("&Redo"));
     redo->setShortcut(QKeySequence::Redo);
+    redo->setObjectName("action.redo");
     edit->addAction(undo);
     edit->addAction(redo);
     edit->addSeparator();

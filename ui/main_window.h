@@ -85,6 +85,7 @@ private:
     QComboBox* collision_ = nullptr;
     QDoubleSpinBox* restitution_ = nullptr;
     QLabel* status_ = nullptr;
+    class QDockWidget* robotDock_ = nullptr;
     QAction* playPause_ = nullptr;
     QAction* step_ = nullptr;
     QMenu* recentMenu_ = nullptr;

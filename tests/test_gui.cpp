@@ -1,0 +1,240 @@
+// The desktop app under a real X server (xvfb-run, xcb platform: the field
+// view is a QOpenGLWidget): dragging a robot with the mouse moves it in the
+// engine and undo puts it back; keys drive the selected robot; manual control
+// overrides TCP for that robot only and letting go hands it back; pause,
+// step, reset; open/save round trip; a screenshot shows the robots where the
+// snapshot says. VSSIM_SCREENSHOT=FILE saves the window's screenshot there.
+#include <QAction>
+#include <QLabel>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QtTest>
+#include <cmath>
+
+#include "camera_colours.h"
+#include "field_view.h"
+#include "main_window.h"
+#include "protocol_client.h"
+#include "scene_io.h"
+
+using namespace vssim;
+
+namespace {
+
+Scene kickoff() {
+    QString error;
+    std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
+    if (!scene) qFatal("%s", qPrintable(error));
+    scene->commands.clear();  // nothing moves unless the test moves it
+    return *scene;
+}
+
+ServerSettings anyPort() {
+    ServerSettings s;
+    s.port = 0;
+    return s;
+}
+
+QAction* action(QMainWindow& window, const char* name) { return window.findChild<QAction*>(name); }
+
+// Waits until the engine's snapshot satisfies `pred`.
+template <typename Pred>
+bool waitFor(MainWindow& w, Pred pred, int timeoutMs = 5000) {
+    QElapsedTimer t;
+    t.start();
+    while (t.elapsed() < timeoutMs) {
+        const auto s = w.session().latest();
+        if (s && pred(*s)) return true;
+        QTest::qWait(10);
+    }
+    return false;
+}
+
+QPoint at(FieldView& view, double x, double y) { return view.toWidget(x, y).toPoint(); }
+
+void moveMouse(FieldView& view, QPoint p) {
+    QMouseEvent move(QEvent::MouseMove, QPointF(p), view.mapToGlobal(QPointF(p)), Qt::NoButton, Qt::LeftButton,
+                     Qt::NoModifier);
+    QApplication::sendEvent(&view, &move);
+}
+
+}  // namespace
+
+class TestGui : public QObject {
+    Q_OBJECT
+private slots:
+    void dragRobotMovesItAndUndoPutsItBack() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();  // pause: only the drag moves it
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        const RobotState start = w.session().latest()->robots[0];  // yellow0 at (-0.68, 0)
+        QTest::mousePress(&view, Qt::LeftButton, {}, at(view, start.x, start.y));
+        QCOMPARE(view.selectedRobot(), 0);
+        for (int k = 1; k <= 10; ++k) moveMouse(view, at(view, start.x + 0.03 * k, start.y + 0.02 * k));
+        QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, start.x + 0.3, start.y + 0.2));
+        // Within a pixel or so of where it was dropped.
+        const double pixel = 1.0 / (view.toWidget(1, 0).x() - view.toWidget(0, 0).x());
+        QVERIFY2(waitFor(w, [&](const Snapshot& s) {
+                     return std::hypot(s.robots[0].x - (start.x + 0.3), s.robots[0].y - (start.y + 0.2)) < 1.5 * pixel;
+                 }),
+                 qPrintable(QString("robot at %1, %2").arg(w.session().latest()->robots[0].x).arg(w.session().latest()->robots[0].y)));
+        QCOMPARE(w.session().latest()->robots[0].theta, start.theta);
+        // Undo puts it back exactly; redo moves it again.
+        const RobotState dropped = w.session().latest()->robots[0];
+        action(w, "action.undo")->trigger();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == start.x && s.robots[0].y == start.y; }));
+        action(w, "action.redo")->trigger();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == dropped.x && s.robots[0].y == dropped.y; }));
+        action(w, "action.undo")->trigger();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == start.x; }));
+        // The wheel turns the robot under the cursor by 15 degrees a notch.
+        const QPointF p(at(view, start.x, start.y));
+        QWheelEvent wheel(p, view.mapToGlobal(p), {}, QPoint(0, 120), Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+        QApplication::sendEvent(&view, &wheel);
+        QVERIFY(waitFor(w, [&](const Snapshot& s) {
+            return std::abs(s.robots[0].theta - (start.theta + FieldView::kRotateStep)) < 1e-12;
+        }));
+        // Shift-drag from the ball: a velocity of 10 (m/s)/m times the arrow.
+        const BallState ball = w.session().latest()->ball;
+        QTest::mousePress(&view, Qt::LeftButton, Qt::ShiftModifier, at(view, ball.x, ball.y));
+        QTest::mouseRelease(&view, Qt::LeftButton, Qt::ShiftModifier, at(view, ball.x + 0.1, ball.y));
+        QVERIFY(waitFor(w, [&](const Snapshot& s) {
+            return std::abs(s.ball.vx - 1.0) < 20 * pixel && std::abs(s.ball.vy) < 20 * pixel;
+        }));
+    }
+
+    void keysDriveTheSelectedRobotAndManualOverridesTcp() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QVERIFY(w.session().listening());
+        // A TCP team client drives robots 0 and 1.
+        ProtocolClient team;
+        QVERIFY(team.connectTo(w.session().port()));
+        QVERIFY(team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", "none"}}));
+        team.send(protocol::MessageType::Voltages, protocol::encodeVoltages({{0, {2.0, 2.0}}, {1, {3.0, 1.0}}}));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.voltages[0].right == 2.0 && s.voltages[1].right == 3.0; }));
+        QCOMPARE(w.session().latest()->control[0].controller, RobotController::Tcp);
+
+        FieldView& view = w.fieldView();
+        const RobotState r0 = w.session().latest()->robots[0];
+        QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r0.x, r0.y));
+        QCOMPARE(view.selectedRobot(), 0);
+        // W: both wheels forward at 60 % of 7.4 V; the robot (heading 0) goes towards +x.
+        QTest::keyPress(&view, Qt::Key_W);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.control[0].controller == RobotController::Manual; }));
+        QCOMPARE(w.manualRobot(), 0);
+        QVERIFY(waitFor(w, [](const Snapshot& s) {
+            return std::abs(s.voltages[0].right - 0.6 * 7.4) < 1e-12 && s.voltages[0].left == s.voltages[0].right;
+        }));
+        const double x0 = w.session().latest()->robots[0].x;
+        QTest::qWait(400);
+        const Snapshot moved = *w.session().latest();
+        QVERIFY2(moved.robots[0].x > x0 + 0.05, qPrintable(QString::number(moved.robots[0].x - x0)));
+        QVERIFY(std::abs(moved.robots[0].y - r0.y) < 0.01);
+        // TCP for robot 0 is now ignored; robot 1 still follows TCP; the UI says so.
+        team.send(protocol::MessageType::Voltages, protocol::encodeVoltages({{0, {-5.0, -5.0}}, {1, {-1.0, -1.0}}}));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.voltages[1].right == -1.0 && s.control[0].tcpWhileManual; }));
+        QVERIFY(std::abs(w.session().latest()->voltages[0].right - 0.6 * 7.4) < 1e-12);
+        QTRY_VERIFY(w.findChild<QLabel*>("drive.status")->text().contains("TCP voltages are ignored"));
+        // A and W together: turning left, so the right wheel gets more.
+        QTest::keyPress(&view, Qt::Key_A);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.voltages[0].right > s.voltages[0].left + 1.0; }));
+        QTest::keyRelease(&view, Qt::Key_A);
+        QTest::keyRelease(&view, Qt::Key_W);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.voltages[0].right == 0.0 && s.voltages[0].left == 0.0; }));
+        QCOMPARE(w.session().latest()->control[0].controller, RobotController::Manual);
+        // Esc lets go: robot 0 takes its last TCP voltages again.
+        QTest::keyClick(&view, Qt::Key_Escape);
+        QVERIFY(waitFor(w, [](const Snapshot& s) {
+            return s.control[0].controller == RobotController::Tcp && s.voltages[0].right == -5.0;
+        }));
+        QCOMPARE(w.manualRobot(), -1);
+    }
+
+    void pauseStepReset() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.time > 0.1; }));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        const double t = w.session().latest()->time;
+        QTest::qWait(200);
+        QCOMPARE(w.session().latest()->time, t);
+        QTRY_VERIFY(action(w, "action.step")->isEnabled());
+        action(w, "action.step")->trigger();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return std::abs(s.time - (t + 0.03)) < 1e-9; }));
+        action(w, "action.reset")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.time == 0.0 && s.frame == 0; }));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return !s.paused && s.time > 0.05; }));
+    }
+
+    void openSaveRoundTrip() {
+        QTemporaryDir dir;
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        w.session().placeRobot(2, RobotState{0.1, -0.3, 0.7, 0.0, 0.0});
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.robots[2].x == 0.1; }));
+        const QString path = dir.filePath("setup.json");
+        QString error;
+        QVERIFY2(w.saveScene(path, &error), qPrintable(error));
+        const std::optional<Scene> saved = loadSceneFile(path, &error);
+        QVERIFY2(saved, qPrintable(error));
+        QCOMPARE(saved->robots[2].initial.x, 0.1);
+        QCOMPARE(saved->robots[2].initial.theta, 0.7);
+        QCOMPARE(saved->robots.size(), std::size_t(6));
+        // Open it in a window running another scene: the engine starts from the saved poses.
+        MainWindow other(*loadSceneFile(":/scenes/ball_walls.json", &error), ":/scenes/ball_walls.json", anyPort());
+        QVERIFY(other.openScene(path, false));
+        QVERIFY(waitFor(other, [](const Snapshot& s) { return s.robots.size() == 6 && s.robots[2].x != 0.0; }));
+        QCOMPARE(sceneToJson(other.session().scene()), sceneToJson(*saved));
+        QCOMPARE(other.session().latest()->scene->robots.size(), std::size_t(6));
+        QVERIFY(!other.openScene(dir.filePath("missing.json"), false));
+    }
+
+    void screenshotShowsRobotsWhereTheSnapshotSays() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        w.session().placeBall(BallState{0.2, 0.3, 0.0, 0.0});
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.ball.x == 0.2; }));
+        QTest::qWait(150);  // a few refreshes
+        FieldView& view = w.fieldView();
+        const QImage image = view.grabFramebuffer();
+        const auto snapshot = w.session().latest();
+        auto colourAt = [&](double x, double y) { return image.pixelColor(view.toWidget(x, y).toPoint()); };
+        auto near = [](QColor c, Bgr want) {
+            return std::abs(c.red() - want.r) < 30 && std::abs(c.green() - want.g) < 30 && std::abs(c.blue() - want.b) < 30;
+        };
+        for (std::size_t i = 0; i < snapshot->robots.size(); ++i) {
+            const RobotState& r = snapshot->robots[i];
+            const double side = snapshot->scene->robots[i].params.side;
+            // The team patch's centre, a quarter side behind the centre.
+            const double bx = r.x - 0.25 * side * std::cos(r.theta), by = r.y - 0.25 * side * std::sin(r.theta);
+            QVERIFY2(near(colourAt(bx, by), teamColour(snapshot->scene->robots[i].team)),
+                     qPrintable(QString("robot %1: %2").arg(i).arg(colourAt(bx, by).name())));
+        }
+        QVERIFY2(near(colourAt(0.2, 0.3), kBallColour), qPrintable(colourAt(0.2, 0.3).name()));
+        QVERIFY(near(colourAt(0.4, -0.4), kFloorColour));
+        const QByteArray out = qgetenv("VSSIM_SCREENSHOT");
+        if (!out.isEmpty()) {
+            view.setSelectedRobot(0);
+            action(w, "action.playPause")->trigger();
+            QTest::qWait(1500);
+            QVERIFY(w.grab().save(QString::fromLocal8Bit(out)));
+        }
+    }
+};
+
+QTEST_MAIN(TestGui)
+#include "test_gui.moc"
