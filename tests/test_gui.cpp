@@ -14,6 +14,7 @@
 #include "camera_colours.h"
 #include "field_view.h"
 #include "main_window.h"
+#include "remote_window.h"
 #include "protocol_client.h"
 #include "scene_io.h"
 
@@ -233,6 +234,42 @@ private slots:
             QTest::qWait(1500);
             QVERIFY(w.grab().save(QString::fromLocal8Bit(out)));
         }
+    }
+
+    void watchingARemoteServer() {
+        // A server in this process (as `vssim serve` would run it), watched
+        // through the protocol: the view shows what the engine has.
+        Scene scene = kickoff();
+        scene.commands = {{0.0, 1, {4.0, 3.0}}};
+        EngineThread engine(scene, EngineLoopSettings{});
+        ServerSettings settings = anyPort();
+        ControlServer server(scene, engine, settings);
+        QString error;
+        QVERIFY2(server.listen(&error), qPrintable(error));
+        engine.start();
+        auto* watcher = new RemoteWatcher;
+        QVERIFY2(watcher->connectTo("127.0.0.1", server.port(), &error), qPrintable(error));
+        RemoteWindow window(watcher);
+        window.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&window));
+        QTRY_VERIFY(window.fieldView().snapshot() && window.fieldView().snapshot()->time > 0.2);
+        const auto seen = window.fieldView().snapshot();
+        QCOMPARE(seen->robots.size(), scene.robots.size());
+        QCOMPARE(seen->scene->robots[3].name, std::string("blue0"));
+        QVERIFY(seen->robots[1].x > scene.robots[1].initial.x);  // robot 1 drives (4 V, 3 V)
+        // Pause through the window: the server's time stops.
+        window.findChild<QAction*>("remote.pause")->trigger();
+        QTRY_VERIFY(engine.snapshots().latest()->paused);
+        const double t = engine.snapshots().latest()->time;
+        // Dragging in the window places the robot on the server.
+        FieldView& view = window.fieldView();
+        const RobotState r0 = seen->robots[0];
+        QTest::mousePress(&view, Qt::LeftButton, {}, at(view, r0.x, r0.y));
+        QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, r0.x + 0.2, r0.y - 0.1));
+        QTRY_VERIFY(std::abs(engine.snapshots().latest()->robots[0].x - (r0.x + 0.2)) < 0.01);
+        QCOMPARE(engine.snapshots().latest()->time, t);
+        engine.requestStop();
+        engine.wait();
     }
 };
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "main_window.h"
+#include "remote_window.h"
 #include "run_command.h"
 #include "scene_io.h"
 
@@ -35,7 +36,8 @@ int guiCommand(int argc, char** argv) {
     parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
     const QCommandLineOption port("port", "TCP port for clients (default 10030; 0: any free port).", "N");
     const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
-    parser.addOptions({port, listen});
+    const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).", "HOST:PORT");
+    parser.addOptions({port, listen, connectTo});
     QTextStream err(stderr);
     if (!parser.parse(args)) {
         err << "vssim gui: " << parser.errorText() << "\n";
@@ -44,6 +46,26 @@ int guiCommand(int argc, char** argv) {
     if (parser.isSet("help")) {
         QTextStream(stdout) << parser.helpText();
         return 0;
+    }
+    if (parser.isSet(connectTo)) {
+        const QString target = parser.value(connectTo);
+        bool ok = false;
+        const uint remotePort = target.section(':', -1).toUInt(&ok);
+        const QString host = target.contains(':') ? target.section(':', 0, -2) : QStringLiteral("127.0.0.1");
+        if (!ok || remotePort == 0 || remotePort > 65535) {
+            err << "vssim gui: --connect: expected HOST:PORT, e.g. 127.0.0.1:10030, got \"" << target << "\"\n";
+            return 2;
+        }
+        auto* watcher = new RemoteWatcher;
+        QString error;
+        if (!watcher->connectTo(host, static_cast<quint16>(remotePort), &error)) {
+            err << "vssim gui: " << error << "\n";
+            delete watcher;
+            return 1;
+        }
+        RemoteWindow window(watcher);
+        window.show();
+        return QApplication::exec();
     }
     ServerSettings server;
     if (parser.isSet(port)) {

@@ -9,7 +9,9 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
+#include <QInputDialog>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QPushButton>
@@ -27,6 +29,7 @@
 #include "gamepad_input.h"
 #include "joystick_widget.h"
 #include "live_plots.h"
+#include "remote_window.h"
 #include "robot_inspector.h"
 #include "run_command.h"
 #include "scene_io.h"
@@ -220,6 +223,23 @@ void MainWindow::buildActions() {
         if (path.isEmpty()) return;
         QString error;
         if (!saveScene(path, &error)) QMessageBox::warning(this, tr("Save scene"), error);
+    });
+    file->addAction(tr("&Watch a server..."), this, [this] {
+        bool ok = false;
+        const QString target = QInputDialog::getText(this, tr("Watch a server"), tr("vssim serve at HOST:PORT"),
+                                                     QLineEdit::Normal, QStringLiteral("127.0.0.1:10030"), &ok);
+        if (!ok) return;
+        const uint port = target.section(':', -1).toUInt();
+        auto* watcher = new RemoteWatcher;
+        QString error;
+        if (port == 0 || port > 65535 || !watcher->connectTo(target.section(':', 0, -2), static_cast<quint16>(port), &error)) {
+            delete watcher;
+            QMessageBox::warning(this, tr("Watch a server"), error.isEmpty() ? tr("expected HOST:PORT, got \"%1\"").arg(target) : error);
+            return;
+        }
+        auto* window = new RemoteWindow(watcher);
+        window->setAttribute(Qt::WA_DeleteOnClose);
+        window->show();
     });
     file->addSeparator();
     file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);

@@ -22,6 +22,7 @@ class QDoubleSpinBox;
 class QLabel;
 class QMenu;
 class QCheckBox;
+class QDockWidget;
 
 namespace vssim {
 
@@ -85,7 +86,7 @@ private:
     QComboBox* collision_ = nullptr;
     QDoubleSpinBox* restitution_ = nullptr;
     QLabel* status_ = nullptr;
-    class QDockWidget* robotDock_ = nullptr;
+    QDockWidget* robotDock_ = nullptr;
     QAction* playPause_ = nullptr;
     QAction* step_ = nullptr;
     QMenu* recentMenu_ = nullptr;

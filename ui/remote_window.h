@@ -1,0 +1,36 @@
+// A window on a `vssim serve` running elsewhere (RemoteWatcher): the field,
+// the selected robot's inspector and plots, and pause/resume/step/reset sent
+// as CONTROL. Bodies can be dragged (place_robot / place_ball).
+#pragma once
+
+#include <QMainWindow>
+#include <QLabel>
+#include <QTimer>
+
+#include "remote_watcher.h"
+
+namespace vssim {
+
+class FieldView;
+class LivePlots;
+class RobotInspector;
+
+class RemoteWindow : public QMainWindow {
+    Q_OBJECT
+public:
+    // Takes a connected watcher.
+    explicit RemoteWindow(RemoteWatcher* watcher, QWidget* parent = nullptr);
+    FieldView& fieldView() { return *field_; }
+    RemoteWatcher& watcher() { return *watcher_; }
+
+private:
+    void refresh();
+    RemoteWatcher* watcher_;
+    FieldView* field_;
+    RobotInspector* inspector_;
+    LivePlots* plots_;
+    QTimer timer_;
+    QLabel* status_ = nullptr;
+};
+
+}  // namespace vssim
