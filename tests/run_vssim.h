@@ -3,6 +3,7 @@
 
 #include <QByteArray>
 #include <QProcess>
+#include <QProcessEnvironment>
 #include <QStringList>
 
 namespace vssim::test {
@@ -16,6 +17,10 @@ struct Result {
 // Runs VSSIM_BINARY with `args`, waiting at most two minutes.
 inline Result runVssim(const QStringList& args) {
     QProcess p;
+    // Never a display: `vssim` alone would open the desktop app.
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"}) env.remove(name);
+    p.setProcessEnvironment(env);
     p.start(VSSIM_BINARY, args);
     Result r;
     if (!p.waitForFinished(120000)) {

@@ -202,11 +202,20 @@ void TestCli::badInputLeavesExistingFileAlone() {
 }
 
 void TestCli::noArgumentsRunsTheDemo() {
+    // Without a display there is no desktop app: the headless demo, and a word why.
     const Result r = runVssim({});
     QCOMPARE(r.exitCode, 0);
     QVERIFY(r.out.contains("kickoff_3v3"));
     QVERIFY(r.out.contains("yellow0"));
     QVERIFY(r.out.contains("ball"));
+    QVERIFY(r.err.contains("no display"));
+    const Result demo = runVssim({"demo"});
+    QCOMPARE(demo.exitCode, 0);
+    QVERIFY(demo.out.contains("kickoff_3v3") && demo.out.contains("yellow0"));
+    QVERIFY(!demo.err.contains("no display"));
+    const Result gui = runVssim({"gui"});
+    QCOMPARE(gui.exitCode, 1);
+    QVERIFY2(gui.err.contains("no display") && gui.err.contains("xvfb-run"), gui.err.constData());
 }
 
 void TestCli::warnsWhenTheStepIsUnstable() {
