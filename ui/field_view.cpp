@@ -360,3 +360,12 @@ void FieldView::keyReleaseEvent(QKeyEvent* event) {
 }
 
 }  // namespace vssim
+
+namespace vssim {
+
+void FieldView::focusOutEvent(QFocusEvent* event) {
+    QOpenGLWidget::focusOutEvent(event);
+    emit focusLost();
+}
+
+}  // namespace vssim

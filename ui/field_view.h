@@ -48,6 +48,7 @@ signals:
     void robotDragStarted(int robot, const vssim::RobotState& before);
     void ballDragStarted(const vssim::BallState& before);
     void keyChanged(int key, bool pressed);
+    void focusLost();  // keys held now will never be seen released
 
 protected:
     void paintGL() override;
@@ -58,6 +59,7 @@ protected:
     void wheelEvent(QWheelEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
     void keyReleaseEvent(QKeyEvent* event) override;
+    void focusOutEvent(QFocusEvent* event) override;
 
 private:
     enum class Drag { None, Robot, Ball, RobotArrow, BallArrow, Pan };

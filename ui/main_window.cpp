@@ -115,6 +115,13 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
         }
     });
     connect(field_, &FieldView::keyChanged, this, &MainWindow::onKey);
+    // Keys held when the field loses focus would never be seen released: stop.
+    connect(field_, &FieldView::focusLost, this, [this] {
+        if (keyboard_.active()) {
+            keyboard_.releaseAll();
+            sendManual(Voltages{});
+        }
+    });
 
     camera_->setScene(session_->scene());
     showSettings(session_->scene().simulation);
@@ -200,8 +207,10 @@ void MainWindow::buildDocks() {
         gamepadStatus_->setText(connected ? name : tr("none connected (plug one in)"));
     });
     connect(gamepad_, &GamepadInput::axesChanged, this, [this](double lx, double ly, double rx, double ry) {
-        if (mapping_->currentIndex() == 0) onStick(lx, ly, true);
-        else onStick(ry, ly, true);  // tank: x is the right wheel's stick, y the left's (drive_mapping.h)
+        // A small dead zone: worn sticks do not rest exactly at 0.
+        constexpr double kDeadzone = 0.08;
+        if (mapping_->currentIndex() == 0) onStick(applyDeadzone(lx, kDeadzone), applyDeadzone(ly, kDeadzone), true);
+        else onStick(applyDeadzone(ry, kDeadzone), applyDeadzone(ly, kDeadzone), true);  // tank: x is the right wheel's stick
         (void)rx;
     });
     gamepad_->start();
