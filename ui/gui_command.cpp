@@ -29,9 +29,10 @@ int guiCommand(int argc, char** argv) {
     QApplication::setApplicationVersion(VSSIM_VERSION);
     QStringList args = QApplication::arguments();
     if (args.size() >= 2 && args[1] == "gui") args.removeAt(1);
+    if (!args.isEmpty()) args[0] = QStringLiteral("vssim gui");  // the name --help shows
     QCommandLineParser parser;
-    parser.setApplicationDescription("The vssim desktop app: the field, dragging robots, driving by hand, live plots; "
-                                     "it also serves TCP clients (docs/protocol.md).");
+    parser.setApplicationDescription("The vssim desktop app: the field, dragging robots, driving by hand, live plots;\n"
+                                     "it also serves TCP clients like vssim serve (docs/protocol.md). Guide: docs/app.md.");
     parser.addHelpOption();
     parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
     const QCommandLineOption port("port", "TCP port for clients (default 10030; 0: any free port).", "N");
@@ -44,7 +45,7 @@ int guiCommand(int argc, char** argv) {
         return 2;
     }
     if (parser.isSet("help")) {
-        QTextStream(stdout) << parser.helpText();
+        QTextStream(stdout) << parser.helpText() << "\n";
         return 0;
     }
     if (parser.isSet(connectTo)) {
