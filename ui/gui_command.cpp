@@ -3,6 +3,7 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QHostAddress>
+#include <QRegularExpression>
 #include <QSurfaceFormat>
 #include <QTextStream>
 #include <cstdlib>
@@ -45,7 +46,9 @@ int guiCommand(int argc, char** argv) {
         return 2;
     }
     if (parser.isSet("help")) {
-        QTextStream(stdout) << parser.helpText() << "\n";
+        QString text = parser.helpText();
+        text.replace(QRegularExpression("^Usage: \\S+"), "Usage: vssim gui");  // not the binary's path
+        QTextStream(stdout) << text << "\n";
         return 0;
     }
     if (parser.isSet(connectTo)) {
