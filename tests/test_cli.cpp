@@ -216,6 +216,13 @@ void TestCli::noArgumentsRunsTheDemo() {
     const Result gui = runVssim({"gui"});
     QCOMPARE(gui.exitCode, 1);
     QVERIFY2(gui.err.contains("no display") && gui.err.contains("xvfb-run"), gui.err.constData());
+    // Its help and option errors need no display.
+    const Result help = runVssim({"gui", "--help"});
+    QCOMPARE(help.exitCode, 0);
+    QVERIFY(help.out.startsWith("Usage: vssim gui") && help.out.contains("--connect"));
+    const Result bad = runVssim({"gui", "--port", "99999"});
+    QCOMPARE(bad.exitCode, 2);
+    QVERIFY(bad.err.contains("--port"));
 }
 
 void TestCli::warnsWhenTheStepIsUnstable() {

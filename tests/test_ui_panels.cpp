@@ -147,8 +147,17 @@ void TestUiPanels::inspectorSaysWhoDrives() {
     RobotInspector inspector;
     inspector.showRobot(s, 0);
     QCOMPARE(labelText(inspector, "controller"), QStringLiteral("TCP client 3"));
+    // Nobody drives it, but it has voltages: the scene's own commands.
+    inspector.showRobot(s, 1);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("the scene's own commands"));
+    s.voltages[1] = Voltages{};
     inspector.showRobot(s, 1);
     QCOMPARE(labelText(inspector, "controller"), QStringLiteral("nobody (0 V)"));
+    // Watching a server: who drives is not known.
+    Snapshot remote = s;
+    remote.control.clear();
+    inspector.showRobot(remote, 1);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("not known (watching a server)"));
     s.control[1].controller = RobotController::Manual;
     inspector.showRobot(s, 1);
     QCOMPARE(labelText(inspector, "controller"), QStringLiteral("manual"));

@@ -68,6 +68,7 @@ void AppSession::setSpeed(double speed) {
 
 void AppSession::applySettings(const SimulationSettings& settings) {
     scene_.simulation = settings;
+    server_->setSimulationSettings(settings);
     EngineRequest r;
     r.kind = EngineRequest::Kind::SetSettings;
     r.scene = std::make_shared<const Scene>(scene_);

@@ -43,12 +43,15 @@ void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
     if (!snapshot) return;
     const std::size_t bodies = snapshot->robots.size() + 1;
     if (trails_.size() != bodies || snapshot->time < trailTime_) trails_.assign(bodies, {});
+    const double elapsed = std::max(0.0, snapshot->time - trailTime_);  // s since the last snapshot
     trailTime_ = snapshot->time;
     for (std::size_t i = 0; i < bodies; ++i) {
         const QPointF p = i + 1 < bodies ? QPointF(snapshot->robots[i].x, snapshot->robots[i].y)
                                          : QPointF(snapshot->ball.x, snapshot->ball.y);
         auto& trail = trails_[i];
-        if (!trail.empty() && QLineF(trail.back(), p).length() > 0.05) trail.clear();  // moved by hand: no streak
+        // A jump far beyond what its speed explains: moved by hand, no streak.
+        const double speed = i + 1 < bodies ? std::abs(snapshot->robots[i].v) : std::hypot(snapshot->ball.vx, snapshot->ball.vy);
+        if (!trail.empty() && QLineF(trail.back(), p).length() > 0.02 + 2.0 * speed * elapsed) trail.clear();
         if (trail.empty() || QLineF(trail.back(), p).length() > 0.002) trail.push_back(p);
         if (trail.size() > kTrailPoints) trail.pop_front();
     }
@@ -221,6 +224,8 @@ void FieldView::mousePressEvent(QMouseEvent* event) {
     setFocus();
     if (!snapshot_) return;
     const QPointF f = toField(event->position());
+    pressPixel_ = event->position();
+    moved_ = false;
     if (event->button() == Qt::RightButton || event->button() == Qt::MiddleButton) {
         drag_ = Drag::Pan;
         dragLast_ = event->position();
@@ -251,6 +256,9 @@ void FieldView::mousePressEvent(QMouseEvent* event) {
 void FieldView::mouseMoveEvent(QMouseEvent* event) {
     if (!snapshot_ || drag_ == Drag::None) return;
     const QPointF f = toField(event->position());
+    // A click only selects: a body moves once the mouse has travelled a few pixels.
+    if (!moved_ && QLineF(pressPixel_, event->position()).length() < kDragThresholdPx) return;
+    moved_ = true;
     switch (drag_) {
         case Drag::Pan: {
             const QPointF before = toField(dragLast_);
@@ -289,6 +297,10 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
     const QPointF f = toField(event->position());
     const Drag drag = drag_;
     drag_ = Drag::None;
+    if (!moved_ && QLineF(pressPixel_, event->position()).length() < kDragThresholdPx && drag != Drag::Pan) {
+        update();  // a click: selected, nothing moved
+        return;
+    }
     switch (drag) {
         case Drag::Robot: {
             RobotState pose = dragRobotPose_;

@@ -77,7 +77,10 @@ private:
     bool showVelocities_ = true;
     double zoom_ = 1.0;
     QPointF pan_;  // m, the view centre's offset from the field centre
+    static constexpr double kDragThresholdPx = 4.0;
     Drag drag_ = Drag::None;
+    QPointF pressPixel_;   // where the button went down, widget px
+    bool moved_ = false;   // the mouse travelled beyond kDragThresholdPx since
     int dragRobot_ = -1;
     QPointF dragOffset_;   // m: body centre minus the grab point
     QPointF dragLast_;     // widget px (pan) or field m (arrow end)

@@ -1,6 +1,7 @@
 #include "gui_command.h"
 
 #include <QApplication>
+#include <QCoreApplication>
 #include <QCommandLineParser>
 #include <QHostAddress>
 #include <QRegularExpression>
@@ -24,40 +25,67 @@ bool displayAvailable() {
 }
 
 int guiCommand(int argc, char** argv) {
+    // The command line first, with a plain QCoreApplication: --help and bad
+    // options work without a display.
+    ServerSettings server;
+    QString connectTarget, sceneName;
+    {
+        QCoreApplication core(argc, argv);
+        QStringList args = QCoreApplication::arguments();
+        if (args.size() >= 2 && args[1] == "gui") args.removeAt(1);
+        QCommandLineParser parser;
+        parser.setApplicationDescription("The vssim desktop app: the field, dragging robots, driving by hand, live plots;\n"
+                                         "it also serves TCP clients like vssim serve (docs/protocol.md). Guide: docs/app.md.");
+        parser.addHelpOption();
+        parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
+        const QCommandLineOption port("port", "TCP port for clients (default 10030; 0: any free port).", "N");
+        const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
+        const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).", "HOST:PORT");
+        parser.addOptions({port, listen, connectTo});
+        QTextStream err(stderr);
+        if (!parser.parse(args)) {
+            err << "vssim gui: " << parser.errorText() << "\n";
+            return 2;
+        }
+        if (parser.isSet("help")) {
+            QString text = parser.helpText();
+            text.replace(QRegularExpression("^Usage: \\S+"), "Usage: vssim gui");  // not the binary's path
+            QTextStream(stdout) << text << "\n";
+            return 0;
+        }
+        if (parser.isSet(port)) {
+            bool ok = false;
+            const uint value = parser.value(port).toUInt(&ok);
+            if (!ok || value > 65535) {
+                err << "vssim gui: --port: expected 0 to 65535, got \"" << parser.value(port) << "\"\n";
+                return 2;
+            }
+            server.port = static_cast<quint16>(value);
+        }
+        if (parser.isSet(listen) && !server.address.setAddress(parser.value(listen))) {
+            err << "vssim gui: --listen: \"" << parser.value(listen) << "\" is not an IP address\n";
+            return 2;
+        }
+        connectTarget = parser.value(connectTo);
+        sceneName = parser.positionalArguments().value(0, "kickoff_3v3");
+        if (!displayAvailable()) {
+            err << "vssim gui: no display: set DISPLAY (X11) or WAYLAND_DISPLAY, or run it under xvfb-run; "
+                   "vssim serve runs headless\n";
+            return 1;
+        }
+    }
+
     QApplication app(argc, argv);
     QApplication::setApplicationName("vssim");
     QApplication::setOrganizationName("vssim");
     QApplication::setApplicationVersion(VSSIM_VERSION);
-    QStringList args = QApplication::arguments();
-    if (args.size() >= 2 && args[1] == "gui") args.removeAt(1);
-    if (!args.isEmpty()) args[0] = QStringLiteral("vssim gui");  // the name --help shows
-    QCommandLineParser parser;
-    parser.setApplicationDescription("The vssim desktop app: the field, dragging robots, driving by hand, live plots;\n"
-                                     "it also serves TCP clients like vssim serve (docs/protocol.md). Guide: docs/app.md.");
-    parser.addHelpOption();
-    parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
-    const QCommandLineOption port("port", "TCP port for clients (default 10030; 0: any free port).", "N");
-    const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
-    const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).", "HOST:PORT");
-    parser.addOptions({port, listen, connectTo});
     QTextStream err(stderr);
-    if (!parser.parse(args)) {
-        err << "vssim gui: " << parser.errorText() << "\n";
-        return 2;
-    }
-    if (parser.isSet("help")) {
-        QString text = parser.helpText();
-        text.replace(QRegularExpression("^Usage: \\S+"), "Usage: vssim gui");  // not the binary's path
-        QTextStream(stdout) << text << "\n";
-        return 0;
-    }
-    if (parser.isSet(connectTo)) {
-        const QString target = parser.value(connectTo);
+    if (!connectTarget.isEmpty()) {
         bool ok = false;
-        const uint remotePort = target.section(':', -1).toUInt(&ok);
-        const QString host = target.contains(':') ? target.section(':', 0, -2) : QStringLiteral("127.0.0.1");
+        const uint remotePort = connectTarget.section(':', -1).toUInt(&ok);
+        const QString host = connectTarget.contains(':') ? connectTarget.section(':', 0, -2) : QStringLiteral("127.0.0.1");
         if (!ok || remotePort == 0 || remotePort > 65535) {
-            err << "vssim gui: --connect: expected HOST:PORT, e.g. 127.0.0.1:10030, got \"" << target << "\"\n";
+            err << "vssim gui: --connect: expected HOST:PORT, e.g. 127.0.0.1:10030, got \"" << connectTarget << "\"\n";
             return 2;
         }
         auto* watcher = new RemoteWatcher;
@@ -71,26 +99,11 @@ int guiCommand(int argc, char** argv) {
         window.show();
         return QApplication::exec();
     }
-    ServerSettings server;
-    if (parser.isSet(port)) {
-        bool ok = false;
-        const uint value = parser.value(port).toUInt(&ok);
-        if (!ok || value > 65535) {
-            err << "vssim gui: --port: expected 0 to 65535, got \"" << parser.value(port) << "\"\n";
-            return 2;
-        }
-        server.port = static_cast<quint16>(value);
-    }
-    if (parser.isSet(listen) && !server.address.setAddress(parser.value(listen))) {
-        err << "vssim gui: --listen: \"" << parser.value(listen) << "\" is not an IP address\n";
-        return 2;
-    }
-    const QString name = parser.positionalArguments().value(0, "kickoff_3v3");
-    const QString path = resolveScenePath(name);
+    const QString path = resolveScenePath(sceneName);
     QString error;
     const std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
     if (!scene) {
-        err << "vssim gui: " << (path.isEmpty() ? QStringLiteral("no scene file or built-in scene \"%1\"").arg(name) : error) << "\n";
+        err << "vssim gui: " << (path.isEmpty() ? QStringLiteral("no scene file or built-in scene \"%1\"").arg(sceneName) : error) << "\n";
         return 2;
     }
     MainWindow window(*scene, path, server);

@@ -17,6 +17,7 @@
 #include <QPushButton>
 #include <QSaveFile>
 #include <QSettings>
+#include <QSignalBlocker>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QToolBar>
@@ -125,9 +126,10 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
 
     camera_->setScene(session_->scene());
     showSettings(session_->scene().simulation);
-    connections_->setListening(session_->listening()
-                                   ? tr("%1:%2 for TCP clients (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port())
-                                   : tr("Not listening: %1").arg(session_->listenError()));
+    if (session_->listening())
+        connections_->setListening(tr("%1:%2 for TCP clients (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port()));
+    else
+        connections_->listeningLabel()->setText(tr("No TCP server: %1 (vssim gui --port N picks another port)").arg(session_->listenError()));
     wall_.start();
     connect(&timer_, &QTimer::timeout, this, &MainWindow::refresh);
     setRefreshRate(30.0);
@@ -190,7 +192,7 @@ void MainWindow::buildDocks() {
     layout->addLayout(form);
     joystick_ = new JoystickWidget(drive);
     joystick_->setMaximumSize(220, 220);
-    joystick_->setToolTip(tr("On-screen joystick (arcade): drag the knob to drive the selected robot"));
+    joystick_->setToolTip(tr("On-screen joystick: drag the knob to drive the selected robot (with the stick mapping above)"));
     layout->addWidget(joystick_, 1, Qt::AlignHCenter);
     auto* release = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
     layout->addWidget(release);
@@ -265,7 +267,8 @@ void MainWindow::buildActions() {
     edit->addSeparator();
     edit->addAction(tr("Robot, ball and field &parameters..."), this, [this] {
         SceneParametersDialog dialog(session_->scene(), this);
-        if (dialog.exec() != QDialog::Accepted) return;
+        if (dialog.exec() != QDialog::Accepted || sceneToJson(dialog.scene()) == sceneToJson(session_->scene())) return;
+        releaseManual();
         session_->loadScene(dialog.scene());
         camera_->setScene(session_->scene());
         plots_->clear();
@@ -331,8 +334,8 @@ void MainWindow::buildToolBar() {
     integrator_->setToolTip(tr("Integrator (docs/model.md)"));
     bar->addWidget(integrator_);
     dt_ = new QDoubleSpinBox(bar);
-    dt_->setDecimals(5);
-    dt_->setRange(0.00001, 0.03);
+    dt_->setDecimals(6);
+    dt_->setRange(0.000001, 0.1);  // as the scene reader (and the parameters dialog)
     dt_->setSingleStep(0.0005);
     dt_->setSuffix(" s");
     dt_->setToolTip(tr("Integration step dt"));
@@ -343,6 +346,7 @@ void MainWindow::buildToolBar() {
     bar->addWidget(collision_);
     restitution_ = new QDoubleSpinBox(bar);
     restitution_->setRange(0.0, 1.0);
+    restitution_->setDecimals(3);
     restitution_->setSingleStep(0.05);
     restitution_->setPrefix(tr("e = "));
     restitution_->setToolTip(tr("Restitution (impulse model only)"));
@@ -359,14 +363,18 @@ void MainWindow::showSettings(const SimulationSettings& settings) {
     collision_->setCurrentText(collisionModelName(settings.collision_model));
     restitution_->setValue(settings.restitution);
     restitution_->setEnabled(settings.collision_model == CollisionModel::Impulse);
+    shownDt_ = dt_->value();
+    shownRestitution_ = restitution_->value();
 }
 
 void MainWindow::applySettingsFromToolbar() {
     SimulationSettings settings = session_->scene().simulation;
     settings.integrator = *integratorFromName(integrator_->currentText());
-    settings.dt = dt_->value();
+    // A box that still shows what showSettings() put there keeps the exact
+    // value (the box rounds to its decimals).
+    if (dt_->value() != shownDt_) settings.dt = dt_->value();
+    if (restitution_->value() != shownRestitution_) settings.restitution = restitution_->value();
     settings.collision_model = *collisionModelFromName(collision_->currentText());
-    settings.restitution = restitution_->value();
     restitution_->setEnabled(settings.collision_model == CollisionModel::Impulse);
     const SimulationSettings& now = session_->scene().simulation;
     if (settings.integrator == now.integrator && settings.dt == now.dt &&
@@ -502,6 +510,14 @@ void MainWindow::refresh() {
     }
     status_->setText(statusText(*snapshot, factor_));
     playPause_->setText(snapshot->paused ? tr("Play") : tr("Pause"));
+    // The speed may have been changed by a TCP client (CONTROL speed).
+    const double shownSpeed = snapshot->mode == RunMode::Max ? 0.0 : snapshot->speed;
+    for (int i = 0; i < speed_->count(); ++i) {
+        if (kSpeeds[i].speed == shownSpeed && speed_->currentIndex() != i) {
+            const QSignalBlocker block(speed_);
+            speed_->setCurrentIndex(i);
+        }
+    }
     step_->setEnabled(snapshot->paused);
     const Scene* scene = snapshot->scene.get();
     if (manualRobot_ >= 0 && scene && manualRobot_ < static_cast<int>(scene->robots.size())) {

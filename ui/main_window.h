@@ -105,6 +105,7 @@ private:
     double lastSimTime_ = 0.0;
     qint64 lastWallMs_ = 0;
     double factor_ = 0.0;
+    double shownDt_ = 0.0, shownRestitution_ = 0.0;  // what showSettings() put in the boxes
     qint64 lastConnectionsMs_ = 0;
 };
 

@@ -241,7 +241,7 @@ QWidget* SceneParametersDialog::robotsTab() {
     editor->addLayout(body);
     editor->addWidget(motors);
     editor->addLayout(buttons);
-    editor->addWidget(new QLabel(tr("Initial poses are set by dragging the robots on the field.")));
+    editor->addWidget(new QLabel(tr("Initial poses are not edited here: move the bodies on the field, then File > Save scene as... writes them as the initial poses.")));
     editor->addStretch();
 
     connect(robotList_, &QListWidget::currentRowChanged, this, &SceneParametersDialog::selectRobot);

@@ -63,6 +63,8 @@ public:
     // (ERROR scene_changed, fatal) and disconnected, since its WELCOME no
     // longer holds. The engine gets the scene separately (LoadScene).
     void setScene(const Scene& scene);
+    // New integrator, dt or collision settings (clients stay; later WELCOMEs say so).
+    void setSimulationSettings(const SimulationSettings& settings) { scene_.simulation = settings; }
 
 signals:
     // One line for the log: connections, greetings, errors, disconnections.
