@@ -173,6 +173,11 @@ private slots:
         QVERIFY(waitFor(w, [](const Snapshot& s) { return s.time == 0.0 && s.frame == 0; }));
         action(w, "action.playPause")->trigger();
         QVERIFY(waitFor(w, [](const Snapshot& s) { return !s.paused && s.time > 0.05; }));
+        // Space on the focused field pauses too (the Play/Pause shortcut).
+        w.activateWindow();
+        w.fieldView().setFocus();
+        QTest::keyClick(&w.fieldView(), Qt::Key_Space);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
     }
 
     void openSaveRoundTrip() {
@@ -229,10 +234,14 @@ private slots:
         QVERIFY(near(colourAt(0.4, -0.4), kFloorColour));
         const QByteArray out = qgetenv("VSSIM_SCREENSHOT");
         if (!out.isEmpty()) {
-            view.setSelectedRobot(0);
-            action(w, "action.playPause")->trigger();
-            QTest::qWait(1500);
-            QVERIFY(w.grab().save(QString::fromLocal8Bit(out)));
+            // The README's picture: the kick-off as shipped, a moving robot selected.
+            QString error;
+            MainWindow shot(*loadSceneFile(":/scenes/kickoff_3v3.json", &error), ":/scenes/kickoff_3v3.json", anyPort());
+            shot.show();
+            QVERIFY(QTest::qWaitForWindowExposed(&shot));
+            shot.fieldView().setSelectedRobot(2);
+            QTest::qWait(1800);
+            QVERIFY(shot.grab().save(QString::fromLocal8Bit(out)));
         }
     }
 

@@ -450,6 +450,12 @@ void MainWindow::onKey(int key, bool pressed) {
         releaseManual();
         return;
     }
+    // Space reaches the field when the window shortcut did not fire (e.g. the
+    // window is not the active one): the same play/pause.
+    if (key == Qt::Key_Space) {
+        if (pressed) playPause_->trigger();
+        return;
+    }
     if (!keyboard_.handleKey(key, pressed)) return;
     const int selected = field_->selectedRobot();
     if (manualRobot_ < 0 && selected >= 0 && keyboard_.active()) manualRobot_ = selected;
