@@ -6,6 +6,11 @@
 
 namespace vssim {
 
+// The camera period in whole steps of dt (at least one).
+static std::int64_t stepsPerFrame(double framePeriod, double dt) {
+    return std::max<std::int64_t>(1, std::llround(framePeriod / dt));
+}
+
 const char* runModeName(RunMode mode) {
     switch (mode) {
         case RunMode::Realtime: return "realtime";
@@ -22,7 +27,7 @@ EngineLoop::EngineLoop(const Scene& scene, const EngineLoopSettings& settings, E
       sim_(std::make_unique<Simulation>(scene)),
       mode_(settings.mode),
       speed_(settings.speed) {
-    frameSteps_ = std::max<std::int64_t>(1, std::llround(settings.framePeriod / scene.simulation.dt));
+    frameSteps_ = stepsPerFrame(settings.framePeriod, scene.simulation.dt);
     nextFrameStep_ = frameSteps_;
     control_.assign(scene.robots.size(), RobotControl{});
 }
@@ -100,6 +105,10 @@ void EngineLoop::runUntil(std::int64_t nowNs) {
 
 void EngineLoop::restart(std::int64_t arrivalNs, std::int64_t nowNs) {
     sim_ = std::make_unique<Simulation>(scene_);
+    restartClock(arrivalNs, nowNs);
+}
+
+void EngineLoop::restartClock(std::int64_t arrivalNs, std::int64_t nowNs) {
     frame_ = 0;
     nextFrameStep_ = frameSteps_;
     reanchor(arrivalNs);
@@ -150,14 +159,14 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         }
         case Kind::LoadScene:
             scene_ = *r.scene;
-            frameSteps_ = std::max<std::int64_t>(1, std::llround(settings_.framePeriod / scene_.simulation.dt));
+            frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
             control_.assign(scene_.robots.size(), RobotControl{});
             restart(r.arrivalNs, nowNs);
             break;
         case Kind::SetSettings: {
             const WorldState before = sim_->state();
             scene_.simulation = r.scene->simulation;
-            frameSteps_ = std::max<std::int64_t>(1, std::llround(settings_.framePeriod / scene_.simulation.dt));
+            frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
             Scene now = scene_;
             now.commands.clear();  // the schedule's times refer to the old clock
             sim_ = std::make_unique<Simulation>(now);
@@ -166,10 +175,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 sim_->setVoltages(static_cast<int>(i), before.voltages[i]);
             }
             sim_->placeBall(before.ball);
-            frame_ = 0;
-            nextFrameStep_ = frameSteps_;
-            reanchor(r.arrivalNs);
-            emitInstant(nowNs);
+            restartClock(r.arrivalNs, nowNs);
             break;
         }
         case Kind::Pause:

@@ -126,6 +126,8 @@ private:
     void emitInstant(std::int64_t nowNs);
     // The scene from its beginning: time 0, frame 0 (emitted).
     void restart(std::int64_t arrivalNs, std::int64_t nowNs);
+    // Frame 0 now (emitted), the clock anchored at arrivalNs.
+    void restartClock(std::int64_t arrivalNs, std::int64_t nowNs);
     void replyTo(const EngineRequest& request, std::int64_t nowNs, const QString& error = {},
                  const QString& message = {}, const QJsonObject& extra = {});
     QJsonObject statsJson() const;
