@@ -102,6 +102,7 @@ void EngineThread::run() {
     EngineLoop loop(scene_, settings_, *this);
     loop_ = &loop;
     loop.start(monotonicNs());
+    started_ = true;
     snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, sceneShared_, 0.0, monotonicNs())));
     std::vector<EngineRequest> batch;
     for (;;) {

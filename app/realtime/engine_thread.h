@@ -43,6 +43,8 @@ public:
     void setSubscriptions(const std::vector<ImageSubscription>& images, bool state);
     std::vector<OutboxItem> takeOutbox();
     const SnapshotBuffer& snapshots() const { return snapshots_; }
+    // Whether the loop has started (its camera instant 0 is behind it).
+    bool started() const { return started_.load(); }
     // Ends the loop; returns at once (wait() joins).
     void requestStop();
 
@@ -75,6 +77,7 @@ private:
     std::condition_variable wake_;
     std::vector<EngineRequest> inbox_;
     std::atomic<bool> stop_{false};
+    std::atomic<bool> started_{false};
     std::vector<ImageSubscription> images_;
     bool stateWanted_ = false;
 
