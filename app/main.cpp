@@ -43,7 +43,16 @@ int main(int argc, char** argv) {
                                "(vssim gui needs X11 or Wayland; vssim --help lists the rest)\n";
         return vssim::demoCommand();
     }
-    if (args[1] == "demo") return vssim::demoCommand();
+    if (args[1] == "demo") {
+        if (args.size() > 2) {
+            const bool help = args[2] == "-h" || args[2] == "--help";
+            (help ? QTextStream(stdout) : QTextStream(stderr))
+                << (help ? "" : QStringLiteral("vssim demo: unexpected argument \"%1\"\n").arg(args[2]))
+                << "Usage: vssim demo\n  Runs the built-in 3-vs-3 kick-off headless for 5 s and prints where everything ended up.\n";
+            return help ? 0 : 2;
+        }
+        return vssim::demoCommand();
+    }
     const QString command = args[1];
     if (command == "run") return vssim::runCommand(args.mid(1));
     if (command == "serve") return vssim::serveCommand(args.mid(1));

@@ -213,6 +213,12 @@ void TestCli::noArgumentsRunsTheDemo() {
     QCOMPARE(demo.exitCode, 0);
     QVERIFY(demo.out.contains("kickoff_3v3") && demo.out.contains("yellow0"));
     QVERIFY(!demo.err.contains("no display"));
+    const Result demoHelp = runVssim({"demo", "--help"});
+    QCOMPARE(demoHelp.exitCode, 0);
+    QVERIFY(demoHelp.out.startsWith("Usage: vssim demo"));
+    const Result demoBad = runVssim({"demo", "--bogus"});
+    QCOMPARE(demoBad.exitCode, 2);
+    QVERIFY(demoBad.err.contains("--bogus"));
     const Result gui = runVssim({"gui"});
     QCOMPARE(gui.exitCode, 1);
     QVERIFY2(gui.err.contains("no display") && gui.err.contains("xvfb-run"), gui.err.constData());

@@ -9,7 +9,7 @@
 //   4. in lockstep mode (`vssim serve --lockstep`) also advance simulated time
 //      ourselves with CONTROL {"command": "step"}.
 // It stops (0 V, exit 0) once the robot touches the ball as seen on the image,
-// exits 1 if --max-time simulated seconds pass first and 2 on any connection or
+// exits 1 if --max-time simulated seconds pass (from its first image) first and 2 on any connection or
 // protocol error. Only POSIX sockets and OpenCV (core, imgproc, imgcodecs); the
 // few JSON messages are handled by a tiny parser below.
 #include <netdb.h>
@@ -471,6 +471,7 @@ int run(const Options& o) {
     cv::Mat background, image, foreground;
     int stepId = 0;  // id of our CONTROL step awaiting its REPLY (lockstep only)
     char estimate[160] = "nothing seen yet";
+    double startTime = -1;  // s, simulated time of the first image (-1: none yet)
     for (;;) {
         const std::uint8_t type = conn.receive(payload);
         if (type == kError) {
@@ -533,9 +534,10 @@ int run(const Options& o) {
                             "right %+.2f V left %+.2f V\n", frame.number, frame.time, pose->x, pose->y,
                             pose->theta * 180 / kPi, ball->x, ball->y, distance, right, left);
         }
-        if (frame.time >= o.maxTime) {
+        if (startTime < 0) startTime = frame.time;  // --max-time counts from the first image
+        if (frame.time - startTime >= o.maxTime) {
             conn.sendVoltages(index, 0, 0);
-            std::fprintf(stderr, "did not reach the ball within %g s of simulated time (t=%.2f s, frame %u; "
+            std::fprintf(stderr, "did not reach the ball within %g s of simulated time from the first image (t=%.2f s, frame %u; "
                                  "last estimate: %s)\n", o.maxTime, frame.time, frame.number, estimate);
             return 1;
         }

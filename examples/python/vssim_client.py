@@ -12,7 +12,7 @@ It shows the whole protocol of docs/protocol.md from a team's side:
      ourselves with CONTROL {"command": "step"}.
 
 It stops (0 V, exit 0) once the robot touches the ball (as seen on the
-image), exits 1 if --max-time simulated seconds pass first and 2 on any
+image), exits 1 if --max-time simulated seconds pass (from its first image) first and 2 on any
 connection or protocol error.
 
 Needs only Python 3, numpy and OpenCV (Debian: python3-numpy python3-opencv):
@@ -375,6 +375,7 @@ def run(args):
     background = None
     step_id = None        # id of our CONTROL step awaiting its REPLY (lockstep only)
     last_estimate = "nothing seen yet"
+    start_time = None  # s, simulated time of the first image
 
     def stop():
         conn.send_voltages(index, 0.0, 0.0)
@@ -437,9 +438,11 @@ def run(args):
                       f"{math.degrees(pose[2]):.0f} deg) ball ({ball[0]:.3f}, {ball[1]:.3f}) "
                       f"distance {distance:.3f} m -> right {right:+.2f} V left {left:+.2f} V")
 
-        if time >= args.max_time:
+        if start_time is None:
+            start_time = time  # --max-time counts from the first image: the server may have run a while
+        if time - start_time >= args.max_time:
             stop()
-            print(f"did not reach the ball within {args.max_time:g} s of simulated time "
+            print(f"did not reach the ball within {args.max_time:g} s of simulated time from the first image "
                   f"(t={time:.2f} s, frame {frame}; last estimate: {last_estimate})", file=sys.stderr)
             return 1
         conn.send_voltages(index, right, left)
