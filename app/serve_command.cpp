@@ -3,6 +3,7 @@
 #include <QCommandLineParser>
 #include <QCoreApplication>
 #include <QDateTime>
+#include <QFileInfo>
 #include <QHostAddress>
 #include <QTextStream>
 #include <QTimer>
@@ -172,7 +173,7 @@ int serveCommand(const QStringList& arguments) {
     out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
     out.flush();
     log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6")
-            .arg(scenePath)
+            .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName()) : scenePath)
             .arg(scene->robots.size())
             .arg(runModeName(loop.mode))
             .arg(loop.mode == RunMode::Realtime ? QStringLiteral(" x%1").arg(loop.speed) : QString())
