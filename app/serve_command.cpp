@@ -14,6 +14,7 @@
 #include "control_server.h"
 #include "engine_thread.h"
 #include "monotonic_clock.h"
+#include "network_address.h"
 #include "run_command.h"
 #include "scene_io.h"
 
@@ -90,10 +91,9 @@ int serveCommand(const QStringList& arguments) {
     ServerSettings server;
     EngineLoopSettings loop;
     if (parser.isSet(port)) {
-        bool ok = false;
-        const uint value = parser.value(port).toUInt(&ok);
-        if (!ok || value > 65535) return usage(QStringLiteral("--port: expected 0 to 65535, got \"%1\"").arg(parser.value(port)));
-        server.port = static_cast<quint16>(value);
+        const std::optional<quint16> value = parsePort(parser.value(port));
+        if (!value) return usage(QStringLiteral("--port: expected 0 to 65535, got \"%1\"").arg(parser.value(port)));
+        server.port = *value;
     }
     if (parser.isSet(listen)) {
         if (!server.address.setAddress(parser.value(listen)))

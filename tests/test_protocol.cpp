@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "client_requests.h"
+#include "network_address.h"
 #include "protocol.h"
 
 using namespace vssim;
@@ -115,6 +116,7 @@ private slots:
     void controlErrors();
     void controlNonFiniteNumbers();
     void reviewFindings();
+    void portsAndAddresses();
 };
 
 void TestProtocol::encodeMessageLayout() {
@@ -701,6 +703,19 @@ void TestProtocol::reviewFindings() {
                              protocol::encodeVoltages(std::vector<std::pair<int, Voltages>>(256, {0, Voltages{}})));
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, protocol::encodeVoltages({{256, Voltages{}}}));
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, protocol::encodeVoltages({}));
+}
+
+void TestProtocol::portsAndAddresses() {
+    QCOMPARE(parsePort("0"), std::optional<quint16>(0));
+    QCOMPARE(parsePort("65535"), std::optional<quint16>(65535));
+    QVERIFY(!parsePort("65536") && !parsePort("-1") && !parsePort("x") && !parsePort(""));
+    const auto full = parseHostPort("10.0.0.7:10030");
+    QVERIFY(full && full->host == "10.0.0.7" && full->port == 10030);
+    const auto bare = parseHostPort("10031");
+    QVERIFY(bare && bare->host == "127.0.0.1" && bare->port == 10031);
+    const auto v6 = parseHostPort("::1:9000");
+    QVERIFY(v6 && v6->host == "::1" && v6->port == 9000);
+    QVERIFY(!parseHostPort("host:0") && !parseHostPort("host:70000") && !parseHostPort(":10030") && !parseHostPort("host:"));
 }
 
 QTEST_APPLESS_MAIN(TestProtocol)

@@ -10,6 +10,7 @@
 #include <cstdlib>
 
 #include "main_window.h"
+#include "network_address.h"
 #include "remote_window.h"
 #include "run_command.h"
 #include "scene_io.h"
@@ -54,13 +55,12 @@ int guiCommand(int argc, char** argv) {
             return 0;
         }
         if (parser.isSet(port)) {
-            bool ok = false;
-            const uint value = parser.value(port).toUInt(&ok);
-            if (!ok || value > 65535) {
+            const std::optional<quint16> value = parsePort(parser.value(port));
+            if (!value) {
                 err << "vssim gui: --port: expected 0 to 65535, got \"" << parser.value(port) << "\"\n";
                 return 2;
             }
-            server.port = static_cast<quint16>(value);
+            server.port = *value;
         }
         if (parser.isSet(listen) && !server.address.setAddress(parser.value(listen))) {
             err << "vssim gui: --listen: \"" << parser.value(listen) << "\" is not an IP address\n";
@@ -81,16 +81,14 @@ int guiCommand(int argc, char** argv) {
     QApplication::setApplicationVersion(VSSIM_VERSION);
     QTextStream err(stderr);
     if (!connectTarget.isEmpty()) {
-        bool ok = false;
-        const uint remotePort = connectTarget.section(':', -1).toUInt(&ok);
-        const QString host = connectTarget.contains(':') ? connectTarget.section(':', 0, -2) : QStringLiteral("127.0.0.1");
-        if (!ok || remotePort == 0 || remotePort > 65535) {
+        const std::optional<HostPort> target = parseHostPort(connectTarget);
+        if (!target) {
             err << "vssim gui: --connect: expected HOST:PORT, e.g. 127.0.0.1:10030, got \"" << connectTarget << "\"\n";
             return 2;
         }
         auto* watcher = new RemoteWatcher;
         QString error;
-        if (!watcher->connectTo(host, static_cast<quint16>(remotePort), &error)) {
+        if (!watcher->connectTo(target->host, target->port, &error)) {
             err << "vssim gui: " << error << "\n";
             delete watcher;
             return 1;

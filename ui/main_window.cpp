@@ -30,6 +30,7 @@
 #include "gamepad_input.h"
 #include "joystick_widget.h"
 #include "live_plots.h"
+#include "network_address.h"
 #include "remote_window.h"
 #include "robot_inspector.h"
 #include "run_command.h"
@@ -240,10 +241,10 @@ void MainWindow::buildActions() {
         const QString target = QInputDialog::getText(this, tr("Watch a server"), tr("vssim serve at HOST:PORT"),
                                                      QLineEdit::Normal, QStringLiteral("127.0.0.1:10030"), &ok);
         if (!ok) return;
-        const uint port = target.section(':', -1).toUInt();
+        const std::optional<HostPort> address = parseHostPort(target);
         auto* watcher = new RemoteWatcher;
         QString error;
-        if (port == 0 || port > 65535 || !watcher->connectTo(target.section(':', 0, -2), static_cast<quint16>(port), &error)) {
+        if (!address || !watcher->connectTo(address->host, address->port, &error)) {
             delete watcher;
             QMessageBox::warning(this, tr("Watch a server"), error.isEmpty() ? tr("expected HOST:PORT, got \"%1\"").arg(target) : error);
             return;
