@@ -2,10 +2,8 @@
 
 #include <QCommandLineParser>
 #include <QCoreApplication>
-#include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
-#include <QFileInfo>
 #include <QSaveFile>
 #include <QTextStream>
 #include <cmath>
@@ -195,21 +193,6 @@ private:
 };
 
 }  // namespace
-
-QStringList builtinSceneNames() {
-    QStringList names;
-    for (const QString& file : QDir(":/scenes").entryList({"*.json"}, QDir::Files, QDir::Name))
-        names << QFileInfo(file).completeBaseName();
-    return names;
-}
-
-QString resolveScenePath(const QString& argument) {
-    if (QFileInfo(argument).isFile()) return argument;
-    for (const QString& candidate : {QStringLiteral(":/scenes/%1").arg(argument),
-                                     QStringLiteral(":/scenes/%1.json").arg(argument)})
-        if (!argument.contains('/') && QFileInfo(candidate).isFile()) return candidate;
-    return {};
-}
 
 QString runHelpText() {
     return QStringLiteral(

@@ -7,21 +7,14 @@
 
 namespace vssim {
 
-// Resolves a scene argument: an existing file, or the name of a built-in
-// example scene ("kickoff_3v3" or "kickoff_3v3.json"). Returns an empty
-// string when neither exists.
-QString resolveScenePath(const QString& argument);
-
-// Names of the built-in example scenes, sorted.
-QStringList builtinSceneNames();
-
 // `vssim run ...`; `arguments` starts with "run".
 // Returns the process exit code: 0 success, 2 bad usage or input, 1 a failure
 // while writing.
 int runCommand(const QStringList& arguments);
 
-// `vssim` with no arguments (until the desktop app exists): runs the built-in
-// kick-off scene for a few seconds headless and prints a summary.
+// `vssim demo`, and `vssim` with no arguments where there is no display:
+// runs the built-in kick-off scene for a few seconds headless and prints a
+// summary.
 int demoCommand();
 
 QString runHelpText();

@@ -1,6 +1,8 @@
 #include "scene_io.h"
 
+#include <QDir>
 #include <QFile>
+#include <QFileInfo>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -418,6 +420,21 @@ QByteArray sceneToJson(const Scene& scene) {
                                     {"right", c.voltages.right}, {"left", c.voltages.left}});
     root["commands"] = commands;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
+}
+
+QStringList builtinSceneNames() {
+    QStringList names;
+    for (const QString& file : QDir(":/scenes").entryList({"*.json"}, QDir::Files, QDir::Name))
+        names << QFileInfo(file).completeBaseName();
+    return names;
+}
+
+QString resolveScenePath(const QString& argument) {
+    if (QFileInfo(argument).isFile()) return argument;
+    for (const QString& candidate : {QStringLiteral(":/scenes/%1").arg(argument),
+                                     QStringLiteral(":/scenes/%1.json").arg(argument)})
+        if (!argument.contains('/') && QFileInfo(candidate).isFile()) return candidate;
+    return {};
 }
 
 }  // namespace vssim

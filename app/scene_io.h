@@ -4,6 +4,7 @@
 
 #include <QByteArray>
 #include <QString>
+#include <QStringList>
 #include <optional>
 
 #include "vssim/scene.h"
@@ -28,5 +29,13 @@ std::optional<Integrator> integratorFromName(const QString& name);
 QString collisionModelName(CollisionModel model);
 std::optional<CollisionModel> collisionModelFromName(const QString& name);
 QString teamName(Team team);
+
+// Resolves a scene argument: an existing file, or the name of a built-in
+// example scene ("kickoff_3v3" or "kickoff_3v3.json", compiled in as a Qt
+// resource). Returns an empty string when neither exists.
+QString resolveScenePath(const QString& argument);
+
+// Names of the built-in example scenes, sorted.
+QStringList builtinSceneNames();
 
 }  // namespace vssim

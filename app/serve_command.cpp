@@ -15,7 +15,6 @@
 #include "engine_thread.h"
 #include "monotonic_clock.h"
 #include "network_address.h"
-#include "run_command.h"
 #include "scene_io.h"
 
 namespace vssim {

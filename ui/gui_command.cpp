@@ -12,7 +12,6 @@
 #include "main_window.h"
 #include "network_address.h"
 #include "remote_window.h"
-#include "run_command.h"
 #include "scene_io.h"
 
 namespace vssim {

@@ -33,7 +33,6 @@
 #include "network_address.h"
 #include "remote_window.h"
 #include "robot_inspector.h"
-#include "run_command.h"
 #include "scene_io.h"
 #include "scene_parameters_dialog.h"
 #include "status_text.h"
