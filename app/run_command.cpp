@@ -12,8 +12,8 @@
 #include <optional>
 #include <unistd.h>
 
-#include "csv_writer.h"
-#include "scene_io.h"
+#include "io/csv_writer.h"
+#include "io/scene_io.h"
 #include "vssim/integrator.h"
 #include "vssim/robot_model.h"
 #include "vssim/world.h"

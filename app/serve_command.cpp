@@ -11,11 +11,11 @@
 #include <cmath>
 #include <csignal>
 
-#include "control_server.h"
-#include "engine_thread.h"
-#include "monotonic_clock.h"
-#include "network_address.h"
-#include "scene_io.h"
+#include "net/control_server.h"
+#include "realtime/engine_thread.h"
+#include "realtime/monotonic_clock.h"
+#include "net/network_address.h"
+#include "io/scene_io.h"
 
 namespace vssim {
 

@@ -16,7 +16,7 @@
 #include <unistd.h>
 #include <vector>
 
-#include "state_hash.h"
+#include "vssim/state_hash.h"
 #include "stress_checks.h"
 #include "stress_scenes.h"
 #include "vssim/world.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "scene_io.h"
+#include "io/scene_io.h"
 
 namespace vssim::bench {
 

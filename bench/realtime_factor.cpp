@@ -10,7 +10,7 @@
 #include "bench_scenes.h"
 #include "bench_timing.h"
 #include "benchmarks.h"
-#include "scene_io.h"
+#include "io/scene_io.h"
 #include "vssim/world.h"
 
 namespace vssim::bench {

@@ -19,9 +19,9 @@
 #include <stdexcept>
 
 #include "benchmarks.h"
-#include "protocol_client.h"
-#include "monotonic_clock.h"
-#include "sample_stats.h"
+#include "net/protocol_client.h"
+#include "realtime/monotonic_clock.h"
+#include "realtime/sample_stats.h"
 
 namespace vssim::bench {
 

@@ -9,11 +9,11 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "camera_geometry.h"
-#include "camera_renderer.h"
-#include "image_codec.h"
-#include "image_patches.h"
-#include "scene_io.h"
+#include "camera/camera_geometry.h"
+#include "camera/camera_renderer.h"
+#include "camera/image_codec.h"
+#include "camera/image_patches.h"
+#include "io/scene_io.h"
 #include "test_support.h"
 
 using namespace vssim;

@@ -6,7 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "run_vssim.h"
-#include "scene_io.h"
+#include "io/scene_io.h"
 #include "vssim/robot_model.h"
 #include "vssim/world.h"
 

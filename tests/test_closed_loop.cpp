@@ -7,7 +7,7 @@
 #include <QtTest>
 #include <cmath>
 
-#include "protocol_client.h"
+#include "net/protocol_client.h"
 #include "run_vssim.h"
 
 using namespace vssim;

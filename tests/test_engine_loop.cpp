@@ -1,10 +1,10 @@
-// The real-time loop (app/realtime/engine_loop.h) driven by made-up wall
+// The real-time loop (runtime/realtime/engine_loop.h) driven by made-up wall
 // times: commands act at their arrival instant, camera instants fall every
 // 30 ms of simulated time, the modes behave as documented, and everything
 // agrees bit for bit with an offline Simulation given the same commands.
 #include <QtTest>
 
-#include "engine_loop.h"
+#include "realtime/engine_loop.h"
 #include "test_support.h"
 
 using namespace vssim;

@@ -7,7 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "scene_io.h"
+#include "io/scene_io.h"
 #include "test_support.h"
 #include "vssim/exact_integrator.h"
 #include "vssim/geometry.h"

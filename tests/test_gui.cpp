@@ -11,12 +11,12 @@
 #include <QtTest>
 #include <cmath>
 
-#include "camera_colours.h"
+#include "camera/camera_colours.h"
 #include "field_view.h"
 #include "main_window.h"
 #include "remote_window.h"
-#include "protocol_client.h"
-#include "scene_io.h"
+#include "net/protocol_client.h"
+#include "io/scene_io.h"
 
 using namespace vssim;
 

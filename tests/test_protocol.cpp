@@ -10,9 +10,9 @@
 #include <initializer_list>
 #include <limits>
 
-#include "client_requests.h"
-#include "network_address.h"
-#include "protocol.h"
+#include "net/client_requests.h"
+#include "net/network_address.h"
+#include "wire/protocol.h"
 
 using namespace vssim;
 using namespace vssim::protocol;

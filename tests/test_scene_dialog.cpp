@@ -18,7 +18,7 @@
 #include <cmath>
 #include <functional>
 
-#include "scene_io.h"
+#include "io/scene_io.h"
 #include "scene_parameters_dialog.h"
 
 using namespace vssim;

@@ -4,7 +4,7 @@
 
 #include <QDir>
 
-#include "scene_io.h"
+#include "io/scene_io.h"
 
 using namespace vssim;
 

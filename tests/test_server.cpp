@@ -8,13 +8,13 @@
 #include <map>
 #include <memory>
 
-#include "camera_renderer.h"
-#include "control_server.h"
-#include "engine_thread.h"
-#include "image_codec.h"
-#include "image_patches.h"
-#include "protocol_client.h"
-#include "scene_io.h"
+#include "camera/camera_renderer.h"
+#include "net/control_server.h"
+#include "realtime/engine_thread.h"
+#include "camera/image_codec.h"
+#include "camera/image_patches.h"
+#include "net/protocol_client.h"
+#include "io/scene_io.h"
 
 using namespace vssim;
 using protocol::MessageType;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "state_hash.h"
+#include "vssim/state_hash.h"
 #include "stress_checks.h"
 #include "stress_scenes.h"
 #include "vssim/robot_model.h"

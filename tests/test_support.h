@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "state_hash.h"
+#include "vssim/state_hash.h"
 #include "vssim/robot_params.h"
 #include "vssim/scene.h"
 #include "vssim/world.h"

@@ -1,6 +1,6 @@
 #include "app_session.h"
 
-#include "monotonic_clock.h"
+#include "realtime/monotonic_clock.h"
 
 namespace vssim {
 

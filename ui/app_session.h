@@ -6,9 +6,9 @@
 #include <QObject>
 #include <memory>
 
-#include "control_server.h"
-#include "engine_thread.h"
-#include "snapshot.h"
+#include "net/control_server.h"
+#include "realtime/engine_thread.h"
+#include "realtime/snapshot.h"
 
 namespace vssim {
 

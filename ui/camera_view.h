@@ -8,8 +8,8 @@
 #include <memory>
 #include <opencv2/core.hpp>
 
-#include "camera_renderer.h"
-#include "snapshot.h"
+#include "camera/camera_renderer.h"
+#include "realtime/snapshot.h"
 
 namespace vssim {
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <vector>
 
-#include "control_server.h"
+#include "net/control_server.h"
 
 class QLabel;
 class QTableWidget;

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "camera_colours.h"
+#include "camera/camera_colours.h"
 #include "vssim/field.h"
 
 namespace vssim {

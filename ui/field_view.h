@@ -14,7 +14,7 @@
 #include <optional>
 #include <vector>
 
-#include "snapshot.h"
+#include "realtime/snapshot.h"
 
 namespace vssim {
 

@@ -9,7 +9,7 @@
 #include <QWidget>
 #include <vector>
 
-#include "snapshot.h"
+#include "realtime/snapshot.h"
 
 namespace vssim {
 

@@ -30,10 +30,10 @@
 #include "gamepad_input.h"
 #include "joystick_widget.h"
 #include "live_plots.h"
-#include "network_address.h"
+#include "net/network_address.h"
 #include "remote_window.h"
 #include "robot_inspector.h"
-#include "scene_io.h"
+#include "io/scene_io.h"
 #include "scene_parameters_dialog.h"
 #include "status_text.h"
 

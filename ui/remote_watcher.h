@@ -8,8 +8,8 @@
 #include <QObject>
 #include <memory>
 
-#include "protocol_client.h"
-#include "snapshot.h"
+#include "net/protocol_client.h"
+#include "realtime/snapshot.h"
 
 namespace vssim {
 

@@ -5,7 +5,7 @@
 #include <QWidget>
 #include <map>
 
-#include "snapshot.h"
+#include "realtime/snapshot.h"
 
 class QLabel;
 

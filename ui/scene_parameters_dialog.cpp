@@ -17,7 +17,7 @@
 #include <QTabWidget>
 #include <QVBoxLayout>
 
-#include "scene_io.h"
+#include "io/scene_io.h"
 #include "vssim/field.h"
 
 namespace vssim {

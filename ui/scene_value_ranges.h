@@ -1,4 +1,4 @@
-// The numbers the scene reader accepts (app/scene_io.cpp; the "allowed"
+// The numbers the scene reader accepts (runtime/io/scene_io.cpp; the "allowed"
 // columns of docs/scenes.md), as the closed intervals a QDoubleSpinBox needs.
 #pragma once
 

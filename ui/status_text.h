@@ -3,7 +3,7 @@
 
 #include <QString>
 
-#include "snapshot.h"
+#include "realtime/snapshot.h"
 
 namespace vssim {
 

@@ -1,0 +1,440 @@
+#include "io/scene_io.h"
+
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSet>
+#include <QStringList>
+#include <cmath>
+#include <map>
+
+namespace vssim {
+
+namespace {
+
+constexpr double kMaxCommandTime = 1e9;  // s (about 32 years): beyond it step indices lose meaning
+
+// Name <-> value tables, one place each.
+const std::pair<const char*, Integrator> kIntegrators[] = {{"euler", Integrator::Euler}, {"rk4", Integrator::Rk4},
+                                                            {"exact", Integrator::Exact}};
+const std::pair<const char*, CollisionModel> kCollisionModels[] = {{"paper", CollisionModel::Paper},
+                                                                   {"impulse", CollisionModel::Impulse}};
+const std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
+
+template <typename T, std::size_t N>
+QString nameOf(const std::pair<const char*, T> (&table)[N], T value) {
+    for (const auto& [name, v] : table)
+        if (v == value) return QString::fromLatin1(name);
+    return {};
+}
+
+template <typename T, std::size_t N>
+std::optional<T> valueOf(const std::pair<const char*, T> (&table)[N], const QString& name) {
+    for (const auto& [n, v] : table)
+        if (name == QLatin1String(n)) return v;
+    return std::nullopt;
+}
+
+template <typename T, std::size_t N>
+QString choices(const std::pair<const char*, T> (&table)[N]) {
+    QStringList names;
+    for (const auto& entry : table) names << QStringLiteral("\"%1\"").arg(entry.first);
+    return names.join(", ");
+}
+
+enum class Range { Any, Positive, NonNegative, UnitInterval };
+
+// Reads JSON into a Scene, keeping the key path of what it reads so that
+// every error says where it is. The first error stops the reading.
+class SceneReader {
+public:
+    std::optional<Scene> read(const QJsonObject& root);
+    QString error() const { return error_; }
+
+private:
+    bool fail(const QString& path, const QString& message) {
+        if (error_.isEmpty()) error_ = (path.isEmpty() ? QStringLiteral("(top level)") : path) + ": " + message;
+        return false;
+    }
+    static QString join(const QString& path, const QString& key) { return path.isEmpty() ? key : path + "." + key; }
+
+    bool object(const QJsonValue& value, const QString& path, QJsonObject* out);
+    bool keys(const QJsonObject& o, const QString& path, std::initializer_list<const char*> allowed);
+    bool number(const QJsonObject& o, const QString& path, const char* key, Range range, double* out);
+    bool string(const QJsonObject& o, const QString& path, const char* key, QString* out);
+    template <typename T, std::size_t N>
+    bool choice(const QJsonObject& o, const QString& path, const char* key,
+                const std::pair<const char*, T> (&table)[N], T* out);
+
+    bool field(const QJsonObject& root, Scene& scene);
+    bool simulation(const QJsonObject& root, Scene& scene);
+    bool motor(const QJsonObject& o, const QString& path, MotorParams& p);
+    bool robotParams(const QJsonObject& o, const QString& path, RobotParams& p, bool* inertiaGiven);
+    bool ball(const QJsonObject& root, Scene& scene);
+    bool robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene);
+    bool commands(const QJsonObject& root, Scene& scene);
+    bool insideField(const Scene& scene);
+
+    QString error_;
+};
+
+bool SceneReader::object(const QJsonValue& value, const QString& path, QJsonObject* out) {
+    if (!value.isObject()) return fail(path, QStringLiteral("expected an object"));
+    *out = value.toObject();
+    return true;
+}
+
+bool SceneReader::keys(const QJsonObject& o, const QString& path, std::initializer_list<const char*> allowed) {
+    for (auto it = o.begin(); it != o.end(); ++it) {
+        bool known = false;
+        for (const char* key : allowed) known = known || it.key() == QLatin1String(key);
+        if (known) continue;
+        QStringList names;
+        for (const char* key : allowed) names << key;
+        return fail(join(path, it.key()), QStringLiteral("unknown key (expected one of: %1)").arg(names.join(", ")));
+    }
+    return true;
+}
+
+bool SceneReader::number(const QJsonObject& o, const QString& path, const char* key, Range range, double* out) {
+    if (!o.contains(QLatin1String(key))) return true;  // keep the default
+    const QString where = join(path, key);
+    const QJsonValue value = o.value(QLatin1String(key));
+    if (!value.isDouble()) return fail(where, QStringLiteral("expected a number"));
+    const double x = value.toDouble();
+    if (!std::isfinite(x)) return fail(where, QStringLiteral("must be a finite number"));
+    const QString got = QStringLiteral(" (got %1)").arg(x);
+    switch (range) {
+        case Range::Positive:
+            if (!(x > 0.0)) return fail(where, QStringLiteral("must be > 0") + got);
+            break;
+        case Range::NonNegative:
+            if (!(x >= 0.0)) return fail(where, QStringLiteral("must be >= 0") + got);
+            break;
+        case Range::UnitInterval:
+            if (!(x >= 0.0 && x <= 1.0)) return fail(where, QStringLiteral("must be between 0 and 1") + got);
+            break;
+        case Range::Any: break;
+    }
+    *out = x;
+    return true;
+}
+
+bool SceneReader::string(const QJsonObject& o, const QString& path, const char* key, QString* out) {
+    if (!o.contains(QLatin1String(key))) return true;
+    const QJsonValue value = o.value(QLatin1String(key));
+    if (!value.isString()) return fail(join(path, key), QStringLiteral("expected a string"));
+    *out = value.toString();
+    return true;
+}
+
+template <typename T, std::size_t N>
+bool SceneReader::choice(const QJsonObject& o, const QString& path, const char* key,
+                         const std::pair<const char*, T> (&table)[N], T* out) {
+    QString name;
+    if (!o.contains(QLatin1String(key))) return true;
+    if (!string(o, path, key, &name)) return false;
+    const std::optional<T> value = valueOf(table, name);
+    if (!value) return fail(join(path, key), QStringLiteral("expected one of %1 (got \"%2\")").arg(choices(table), name));
+    *out = *value;
+    return true;
+}
+
+bool SceneReader::field(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("field")) return true;
+    QJsonObject o;
+    double length = scene.field.length, width = scene.field.width;
+    if (!object(root.value("field"), "field", &o) || !keys(o, "field", {"length", "width"}) ||
+        !number(o, "field", "length", Range::Positive, &length) || !number(o, "field", "width", Range::Positive, &width))
+        return false;
+    scene.field = makeRectangularField(length, width);
+    return true;
+}
+
+bool SceneReader::simulation(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("simulation")) return true;
+    QJsonObject o;
+    SimulationSettings& s = scene.simulation;
+    const QString path = "simulation";
+    if (!object(root.value(path), path, &o) || !keys(o, path, {"integrator", "dt", "collision_model", "restitution"}) ||
+        !choice(o, path, "integrator", kIntegrators, &s.integrator) || !number(o, path, "dt", Range::Positive, &s.dt) ||
+        !choice(o, path, "collision_model", kCollisionModels, &s.collision_model) ||
+        !number(o, path, "restitution", Range::UnitInterval, &s.restitution))
+        return false;
+    if (s.dt > 0.1) return fail(join(path, "dt"), QStringLiteral("must be <= 0.1 s (got %1)").arg(s.dt));
+    return true;
+}
+
+bool SceneReader::motor(const QJsonObject& o, const QString& path, MotorParams& p) {
+    return keys(o, path, {"wheel_radius", "resistance", "k", "rotor_inertia", "friction"}) &&
+           number(o, path, "wheel_radius", Range::Positive, &p.wheel_radius) &&
+           number(o, path, "resistance", Range::Positive, &p.resistance) &&
+           number(o, path, "k", Range::Positive, &p.k) &&
+           number(o, path, "rotor_inertia", Range::NonNegative, &p.rotor_inertia) &&
+           number(o, path, "friction", Range::NonNegative, &p.friction);
+}
+
+bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotParams& p, bool* inertiaGiven) {
+    if (!keys(o, path, {"side", "mass", "inertia", "wheel_base", "friction_linear", "friction_angular", "max_voltage",
+                        "right", "left"}) ||
+        !number(o, path, "side", Range::Positive, &p.side) || !number(o, path, "mass", Range::Positive, &p.mass) ||
+        !number(o, path, "inertia", Range::Positive, &p.inertia) ||
+        !number(o, path, "wheel_base", Range::Positive, &p.wheel_base) ||
+        !number(o, path, "friction_linear", Range::NonNegative, &p.friction_linear) ||
+        !number(o, path, "friction_angular", Range::NonNegative, &p.friction_angular) ||
+        !number(o, path, "max_voltage", Range::Positive, &p.max_voltage))
+        return false;
+    *inertiaGiven = *inertiaGiven || o.contains("inertia");
+    for (const auto& [key, motorParams] : {std::pair<const char*, MotorParams*>{"right", &p.right}, {"left", &p.left}}) {
+        if (!o.contains(QLatin1String(key))) continue;
+        QJsonObject m;
+        if (!object(o.value(QLatin1String(key)), join(path, key), &m) || !motor(m, join(path, key), *motorParams))
+            return false;
+    }
+    return true;
+}
+
+bool SceneReader::ball(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("ball")) return true;
+    QJsonObject o;
+    BallState& b = scene.ball;
+    BallParams& p = scene.ball_params;
+    return object(root.value("ball"), "ball", &o) &&
+           keys(o, "ball", {"x", "y", "vx", "vy", "mass", "radius", "friction"}) &&
+           number(o, "ball", "x", Range::Any, &b.x) && number(o, "ball", "y", Range::Any, &b.y) &&
+           number(o, "ball", "vx", Range::Any, &b.vx) && number(o, "ball", "vy", Range::Any, &b.vy) &&
+           number(o, "ball", "mass", Range::Positive, &p.mass) &&
+           number(o, "ball", "radius", Range::Positive, &p.radius) &&
+           number(o, "ball", "friction", Range::NonNegative, &p.friction);
+}
+
+bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene) {
+    if (!root.contains("robots")) return true;
+    if (!root.value("robots").isArray()) return fail("robots", QStringLiteral("expected an array"));
+    const QJsonArray list = root.value("robots").toArray();
+    std::map<Team, int> perTeam;
+    QSet<QString> names;
+    for (int i = 0; i < list.size(); ++i) {
+        const QString path = QStringLiteral("robots[%1]").arg(i);
+        QJsonObject o;
+        if (!object(list[i], path, &o) ||
+            !keys(o, path, {"name", "team", "x", "y", "theta", "v", "omega", "params"}))
+            return false;
+        RobotSpec r;
+        r.params = defaults;
+        QString name;
+        RobotState& s = r.initial;
+        if (!string(o, path, "name", &name) || !choice(o, path, "team", kTeams, &r.team) ||
+            !number(o, path, "x", Range::Any, &s.x) || !number(o, path, "y", Range::Any, &s.y) ||
+            !number(o, path, "theta", Range::Any, &s.theta) || !number(o, path, "v", Range::Any, &s.v) ||
+            !number(o, path, "omega", Range::Any, &s.omega))
+            return false;
+        bool ownInertia = inertiaGiven;
+        if (o.contains("params")) {
+            QJsonObject p;
+            if (!object(o.value("params"), join(path, "params"), &p) ||
+                !robotParams(p, join(path, "params"), r.params, &ownInertia))
+                return false;
+        }
+        if (!ownInertia) r.params.inertia = r.params.mass * r.params.side * r.params.side / 6.0;  // uniform cube
+        const int indexInTeam = perTeam[r.team]++;
+        if (!o.contains("name")) name = teamName(r.team) + QString::number(indexInTeam);
+        if (name.isEmpty()) return fail(join(path, "name"), QStringLiteral("must not be empty"));
+        // Names are written unquoted in CSV rows, where "ball" names the ball.
+        for (const QChar ch : name)
+            if (ch == ',' || ch == '"' || ch.category() == QChar::Other_Control)
+                return fail(join(path, "name"),
+                            QStringLiteral("\"%1\" may not contain commas, quotes or control characters (it names CSV rows)")
+                                .arg(name));
+        if (name == QLatin1String("ball"))
+            return fail(join(path, "name"), QStringLiteral("\"ball\" is reserved for the ball"));
+        if (names.contains(name)) return fail(join(path, "name"), QStringLiteral("duplicate name \"%1\"").arg(name));
+        names.insert(name);
+        r.name = name.toStdString();
+        scene.robots.push_back(r);
+    }
+    return true;
+}
+
+bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("commands")) return true;
+    if (!root.value("commands").isArray()) return fail("commands", QStringLiteral("expected an array"));
+    const QJsonArray list = root.value("commands").toArray();
+    for (int i = 0; i < list.size(); ++i) {
+        const QString path = QStringLiteral("commands[%1]").arg(i);
+        QJsonObject o;
+        VoltageCommand c;
+        QString robot;
+        if (!object(list[i], path, &o) || !keys(o, path, {"t", "robot", "right", "left"}) ||
+            !number(o, path, "t", Range::NonNegative, &c.t) || !string(o, path, "robot", &robot) ||
+            !number(o, path, "right", Range::Any, &c.voltages.right) ||
+            !number(o, path, "left", Range::Any, &c.voltages.left))
+            return false;
+        if (!o.contains("robot")) return fail(join(path, "robot"), QStringLiteral("missing (the name of a robot)"));
+        if (c.t > kMaxCommandTime)
+            return fail(join(path, "t"), QStringLiteral("must be <= %1 s (got %2)").arg(kMaxCommandTime).arg(c.t));
+        c.robot = -1;
+        for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
+            if (QString::fromStdString(scene.robots[r].name) == robot) c.robot = r;
+        if (c.robot < 0) return fail(join(path, "robot"), QStringLiteral("no robot named \"%1\"").arg(robot));
+        scene.commands.push_back(c);
+    }
+    return true;
+}
+
+bool SceneReader::insideField(const Scene& scene) {
+    const double hx = scene.field.length / 2, hy = scene.field.width / 2;
+    // half: the body's half-extent along x and along y, m.
+    auto check = [&](const QString& path, double x, double y, double half, const QString& note) {
+        const QString what = QStringLiteral("%1 m is outside the field (|%2| must be <= %3 m%4)");
+        if (std::abs(x) > hx - half)
+            return fail(join(path, "x"), what.arg(x, 0, 'g', 10).arg('x').arg(hx - half, 0, 'g', 10).arg(note));
+        if (std::abs(y) > hy - half)
+            return fail(join(path, "y"), what.arg(y, 0, 'g', 10).arg('y').arg(hy - half, 0, 'g', 10).arg(note));
+        return true;
+    };
+    if (!check("ball", scene.ball.x, scene.ball.y, scene.ball_params.radius, {})) return false;
+    for (std::size_t i = 0; i < scene.robots.size(); ++i) {
+        const RobotSpec& robot = scene.robots[i];
+        // A square of side s at heading theta reaches (s/2)(|cos| + |sin|) along x and y.
+        const double turn = std::abs(std::cos(robot.initial.theta)) + std::abs(std::sin(robot.initial.theta));
+        const QString note = std::abs(turn - 1.0) > 1e-9
+                                 ? QStringLiteral(" at heading %1 rad").arg(robot.initial.theta, 0, 'g', 6)
+                                 : QString();
+        if (!check(QStringLiteral("robots[%1]").arg(i), robot.initial.x, robot.initial.y,
+                   0.5 * robot.params.side * turn, note))
+            return false;
+    }
+    return true;
+}
+
+std::optional<Scene> SceneReader::read(const QJsonObject& root) {
+    Scene scene;
+    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands"}))
+        return std::nullopt;
+    double version = 1.0;
+    if (!number(root, "", "version", Range::Any, &version)) return std::nullopt;
+    if (version != 1.0) {
+        fail("version", QStringLiteral("unsupported version %1 (this vssim reads version 1)").arg(version));
+        return std::nullopt;
+    }
+    RobotParams defaults;
+    bool inertiaGiven = false;
+    if (root.contains("robot_defaults")) {
+        QJsonObject o;
+        if (!object(root.value("robot_defaults"), "robot_defaults", &o) ||
+            !robotParams(o, "robot_defaults", defaults, &inertiaGiven))
+            return std::nullopt;
+    }
+    if (!field(root, scene) || !simulation(root, scene) || !ball(root, scene) ||
+        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !insideField(scene))
+        return std::nullopt;
+    return scene;
+}
+
+// Line and column (1-based) of a byte offset, for syntax errors.
+QString lineAndColumn(const QByteArray& text, int offset) {
+    int line = 1, column = 1;
+    for (int i = 0; i < offset && i < text.size(); ++i) {
+        if (text[i] == '\n') ++line, column = 1;
+        else ++column;
+    }
+    return QStringLiteral("line %1, column %2").arg(line).arg(column);
+}
+
+QJsonObject motorJson(const MotorParams& m) {
+    return {{"wheel_radius", m.wheel_radius}, {"resistance", m.resistance}, {"k", m.k},
+            {"rotor_inertia", m.rotor_inertia}, {"friction", m.friction}};
+}
+
+QJsonObject robotParamsJson(const RobotParams& p) {
+    return {{"side", p.side}, {"mass", p.mass}, {"inertia", p.inertia}, {"wheel_base", p.wheel_base},
+            {"friction_linear", p.friction_linear}, {"friction_angular", p.friction_angular},
+            {"max_voltage", p.max_voltage}, {"right", motorJson(p.right)}, {"left", motorJson(p.left)}};
+}
+
+}  // namespace
+
+QString integratorName(Integrator integrator) { return nameOf(kIntegrators, integrator); }
+std::optional<Integrator> integratorFromName(const QString& name) { return valueOf(kIntegrators, name); }
+QString collisionModelName(CollisionModel model) { return nameOf(kCollisionModels, model); }
+std::optional<CollisionModel> collisionModelFromName(const QString& name) { return valueOf(kCollisionModels, name); }
+QString teamName(Team team) { return nameOf(kTeams, team); }
+
+std::optional<Scene> parseScene(const QByteArray& json, QString* error) {
+    QJsonParseError parseError;
+    const QJsonDocument doc = QJsonDocument::fromJson(json, &parseError);
+    if (parseError.error != QJsonParseError::NoError) {
+        *error = QStringLiteral("%1: %2").arg(lineAndColumn(json, parseError.offset), parseError.errorString());
+        return std::nullopt;
+    }
+    if (!doc.isObject()) {
+        *error = QStringLiteral("(top level): expected an object");
+        return std::nullopt;
+    }
+    SceneReader reader;
+    std::optional<Scene> scene = reader.read(doc.object());
+    if (!scene) *error = reader.error();
+    return scene;
+}
+
+std::optional<Scene> loadSceneFile(const QString& path, QString* error) {
+    QFile file(path);
+    if (!file.open(QIODevice::ReadOnly)) {
+        *error = QStringLiteral("%1: cannot read: %2").arg(path, file.errorString());
+        return std::nullopt;
+    }
+    const qint64 kMaxBytes = 64 << 20;
+    if (file.size() > kMaxBytes) {
+        *error = QStringLiteral("%1: %2 bytes is too large for a scene (limit 64 MiB)").arg(path).arg(file.size());
+        return std::nullopt;
+    }
+    std::optional<Scene> scene = parseScene(file.readAll(), error);
+    if (!scene) *error = path + ": " + *error;
+    return scene;
+}
+
+QByteArray sceneToJson(const Scene& scene) {
+    QJsonObject root;
+    root["version"] = 1;
+    root["field"] = QJsonObject{{"length", scene.field.length}, {"width", scene.field.width}};
+    const SimulationSettings& s = scene.simulation;
+    root["simulation"] = QJsonObject{{"integrator", integratorName(s.integrator)}, {"dt", s.dt},
+                                     {"collision_model", collisionModelName(s.collision_model)},
+                                     {"restitution", s.restitution}};
+    root["ball"] = QJsonObject{{"x", scene.ball.x}, {"y", scene.ball.y}, {"vx", scene.ball.vx}, {"vy", scene.ball.vy},
+                               {"mass", scene.ball_params.mass}, {"radius", scene.ball_params.radius},
+                               {"friction", scene.ball_params.friction}};
+    QJsonArray robots;
+    for (const RobotSpec& r : scene.robots)
+        robots.append(QJsonObject{{"name", QString::fromStdString(r.name)}, {"team", teamName(r.team)},
+                                  {"x", r.initial.x}, {"y", r.initial.y}, {"theta", r.initial.theta},
+                                  {"v", r.initial.v}, {"omega", r.initial.omega}, {"params", robotParamsJson(r.params)}});
+    root["robots"] = robots;
+    QJsonArray commands;
+    for (const VoltageCommand& c : scene.commands)
+        commands.append(QJsonObject{{"t", c.t}, {"robot", QString::fromStdString(scene.robots[c.robot].name)},
+                                    {"right", c.voltages.right}, {"left", c.voltages.left}});
+    root["commands"] = commands;
+    return QJsonDocument(root).toJson(QJsonDocument::Indented);
+}
+
+QStringList builtinSceneNames() {
+    QStringList names;
+    for (const QString& file : QDir(":/scenes").entryList({"*.json"}, QDir::Files, QDir::Name))
+        names << QFileInfo(file).completeBaseName();
+    return names;
+}
+
+QString resolveScenePath(const QString& argument) {
+    if (QFileInfo(argument).isFile()) return argument;
+    for (const QString& candidate : {QStringLiteral(":/scenes/%1").arg(argument),
+                                     QStringLiteral(":/scenes/%1.json").arg(argument)})
+        if (!argument.contains('/') && QFileInfo(candidate).isFile()) return candidate;
+    return {};
+}
+
+}  // namespace vssim

@@ -1,0 +1,52 @@
+// Checking what clients ask (docs/protocol.md: HELLO, VOLTAGES, CONTROL)
+// against the protocol and the scene, before anything reaches the engine.
+// Each check returns an error code (protocol.md, ERROR) and a message that
+// says what was wrong and where, or nothing.
+#pragma once
+
+#include <QJsonObject>
+#include <QString>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "wire/frame_packet.h"
+#include "realtime/engine_request.h"
+#include "vssim/scene.h"
+
+namespace vssim {
+
+struct RequestError {
+    QString code;     // e.g. "malformed", "bad_robot"
+    QString message;  // human-readable: what and where
+};
+
+enum class ClientRole { Yellow, Blue, Observer };
+QString roleName(ClientRole role);
+
+struct Hello {
+    ClientRole role = ClientRole::Observer;
+    QString name;
+    std::optional<ImageSubscription> images;  // none: no images
+    bool state = false;
+};
+
+std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error);
+
+// A VOLTAGES message's entries: robots that exist, belong to the client's
+// team, and finite volts.
+std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Voltages>>& entries, const Scene& scene,
+                                          ClientRole role);
+
+// Speeds a placed body may start with: several times what the motors reach
+// (a default robot's top speed is about 1.6 m/s), and no more, since a body
+// far faster would need millions of sub-steps per step.
+constexpr double kMaxPlacedRobotSpeed = 10.0;  // m/s
+constexpr double kMaxPlacedYawRate = 100.0;    // rad/s
+constexpr double kMaxPlacedBallSpeed = 20.0;   // m/s
+
+// A CONTROL message, as an engine request (arrival time, client and id are
+// the caller's to fill in).
+std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& scene, RequestError* error);
+
+}  // namespace vssim

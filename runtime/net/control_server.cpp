@@ -1,0 +1,436 @@
+#include "net/control_server.h"
+
+#include <QJsonArray>
+#include <QTcpSocket>
+#include <QTimer>
+
+#include "realtime/monotonic_clock.h"
+#include "io/scene_io.h"
+
+namespace vssim {
+
+struct ControlServer::Client {
+    int id = 0;
+    QTcpSocket* socket = nullptr;
+    QString peer;
+    protocol::MessageReader reader{protocol::kMaxClientMessage};
+    bool greeted = false;
+    bool closing = false;
+    Hello hello;
+    QTimer* helloTimer = nullptr;
+    QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
+    std::int64_t framesDropped = 0;
+    int errorsLogged = 0;
+    std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
+    bool statsPending = false;  // one `stats` at a time per client (each sorts thousands of samples)
+    bool robotsStopped = false; // its team's robots got 0 V when it was dropped
+    std::int64_t commands = 0;     // VOLTAGES accepted
+    std::int64_t framesSent = 0;
+    std::int64_t connectedNs = 0;  // monotonicNs() at connection
+};
+
+std::vector<ClientInfo> ControlServer::clients() const {
+    std::vector<ClientInfo> out;
+    for (const auto& [id, c] : clients_) {
+        ClientInfo info;
+        info.id = id;
+        info.peer = c->peer;
+        info.greeted = c->greeted;
+        info.role = c->greeted ? roleName(c->hello.role) : QStringLiteral("(no HELLO yet)");
+        info.name = c->hello.name;
+        info.images = c->hello.images ? subscriptionName(*c->hello.images) : QStringLiteral("none");
+        info.state = c->hello.state;
+        info.commands = c->commands;
+        info.framesSent = c->framesSent;
+        info.framesDropped = c->framesDropped;
+        info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
+        out.push_back(info);
+    }
+    return out;
+}
+
+void ControlServer::setScene(const Scene& scene) {
+    scene_ = scene;
+    background_ = CameraRenderer(scene);
+    for (auto& [id, client] : clients_)
+        sendError(*client, {"scene_changed", "the server loaded another scene: connect again"}, true);
+}
+
+ControlServer::ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent)
+    : QObject(parent), scene_(scene), engine_(engine), settings_(settings), background_(scene) {
+    connect(&server_, &QTcpServer::newConnection, this, &ControlServer::accept);
+    connect(&engine_, &EngineThread::outboxReady, this, &ControlServer::drainEngine, Qt::QueuedConnection);
+}
+
+ControlServer::~ControlServer() {
+    for (auto& [id, client] : clients_) {
+        client->socket->disconnect(this);
+        client->socket->abort();
+        client->socket->deleteLater();
+    }
+}
+
+bool ControlServer::listen(QString* error) {
+    if (!server_.listen(settings_.address, settings_.port)) {
+        *error = QStringLiteral("cannot listen on %1:%2: %3")
+                     .arg(settings_.address.toString()).arg(settings_.port).arg(server_.errorString());
+        return false;
+    }
+    return true;
+}
+
+void ControlServer::log(const Client& client, const QString& text) {
+    emit logLine(QStringLiteral("client %1 (%2%3): %4")
+                     .arg(client.id)
+                     .arg(client.peer)
+                     .arg(client.greeted ? QStringLiteral(", ") + roleName(client.hello.role) +
+                                               (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
+                                         : QString())
+                     .arg(text));
+}
+
+void ControlServer::accept() {
+    while (QTcpSocket* socket = server_.nextPendingConnection()) {
+        auto client = std::make_unique<Client>();
+        client->id = nextId_++;
+        client->socket = socket;
+        // Small messages (replies, STATE) go out at once: no Nagle delay.
+        socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
+        client->peer = QStringLiteral("%1:%2").arg(socket->peerAddress().toString()).arg(socket->peerPort());
+        client->connectedNs = monotonicNs();
+        Client& c = *client;
+        const int id = c.id;
+        clients_.emplace(id, std::move(client));
+        log(c, "connected");
+        connect(socket, &QTcpSocket::readyRead, this, [this, id] {
+            auto it = clients_.find(id);
+            if (it != clients_.end()) readFrom(*it->second);
+        });
+        connect(socket, &QTcpSocket::bytesWritten, this, [this, id] {
+            auto it = clients_.find(id);
+            if (it != clients_.end()) flushPending(*it->second);
+        });
+        connect(socket, &QTcpSocket::disconnected, this, [this, id] { forget(id); });
+        c.helloTimer = new QTimer(socket);
+        c.helloTimer->setSingleShot(true);
+        connect(c.helloTimer, &QTimer::timeout, this, [this, id] {
+            auto it = clients_.find(id);
+            if (it != clients_.end() && !it->second->greeted)
+                sendError(*it->second, {"hello_timeout", QStringLiteral("no HELLO within %1 s of connecting").arg(settings_.helloTimeoutMs / 1000.0)}, true);
+        });
+        c.helloTimer->start(settings_.helloTimeoutMs);
+        if (static_cast<int>(clients_.size()) > settings_.maxClients)
+            sendError(c, {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)}, true);
+    }
+}
+
+void ControlServer::readFrom(Client& client) {
+    const std::int64_t arrivalNs = monotonicNs();
+    client.reader.append(client.socket->readAll());
+    protocol::Message message;
+    std::uint32_t length = 0;
+    while (!client.closing) {
+        switch (client.reader.next(&message, &length)) {
+            case protocol::MessageReader::Status::NeedMore:
+                return;
+            case protocol::MessageReader::Status::Oversize:
+                sendError(client, {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
+                                                   .arg(length).arg(protocol::kMaxClientMessage)}, true);
+                return;
+            case protocol::MessageReader::Status::Empty:
+                sendError(client, {"malformed", "message length 0 (a message has at least its type byte)"}, true);
+                return;
+            case protocol::MessageReader::Status::Message:
+                handle(client, message, arrivalNs);
+                break;
+        }
+    }
+}
+
+void ControlServer::handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs) {
+    using protocol::MessageType;
+    const auto type = static_cast<MessageType>(message.type);
+    if (!client.greeted) {
+        if (type != MessageType::Hello) {
+            sendError(client, {"hello_required", QStringLiteral("the first message must be HELLO (type 0x01), got type 0x%1")
+                                                     .arg(message.type, 2, 16, QChar('0'))}, true);
+            return;
+        }
+        QString jsonError;
+        const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
+        if (!json) {
+            sendError(client, {"malformed", "HELLO: " + jsonError}, true);
+            return;
+        }
+        greet(client, *json);
+        return;
+    }
+    switch (type) {
+        case MessageType::Hello:
+            sendError(client, {"malformed", "HELLO again: a client says HELLO once"}, false);
+            return;
+        case MessageType::Voltages: {
+            QString layoutError;
+            const auto entries = protocol::decodeVoltages(message.payload, &layoutError);
+            if (!entries) return sendError(client, {"malformed", layoutError}, false);
+            if (const auto error = checkVoltages(*entries, scene_, client.hello.role)) return sendError(client, *error, false);
+            EngineRequest request;
+            request.kind = EngineRequest::Kind::Voltages;
+            request.arrivalNs = arrivalNs;
+            request.client = client.id;
+            request.voltages = *entries;
+            ++client.commands;
+            if (!post(client, std::move(request)))
+                sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
+                                               .arg(kMaxQueuedPerClient)}, false);
+            return;
+        }
+        case MessageType::Control: {
+            QString jsonError;
+            const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
+            if (!json) return sendError(client, {"malformed", "CONTROL: " + jsonError}, false);
+            RequestError error;
+            std::optional<EngineRequest> request = parseControl(*json, scene_, &error);
+            if (!request) return sendError(client, error, false, json->value("id"));
+            request->arrivalNs = arrivalNs;
+            request->client = client.id;
+            request->id = json->value("id");
+            const bool stats = request->kind == EngineRequest::Kind::Stats;
+            if (stats && client.statsPending)
+                return sendError(client, {"busy", "CONTROL stats: the previous stats request is not answered yet"}, false, request->id);
+            if (!post(client, std::move(*request)))
+                return sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; CONTROL dropped")
+                                                      .arg(kMaxQueuedPerClient)}, false, json->value("id"));
+            if (stats) client.statsPending = true;
+            return;
+        }
+        default:
+            sendError(client, {"unknown_type", QStringLiteral("unknown message type 0x%1 (%2 payload bytes skipped)")
+                                                   .arg(message.type, 2, 16, QChar('0')).arg(message.payload.size())}, false);
+    }
+}
+
+bool ControlServer::post(Client& client, EngineRequest request) {
+    if (client.queued->load() >= kMaxQueuedPerClient) return false;
+    request.queued = client.queued;
+    client.queued->fetch_add(1);
+    if (engine_.post(std::move(request))) return true;
+    client.queued->fetch_sub(1);
+    return false;
+}
+
+void ControlServer::greet(Client& client, const QJsonObject& json) {
+    RequestError error;
+    const std::optional<Hello> hello = parseHello(json, &error);
+    if (!hello) return sendError(client, error, true);
+    if (hello->role != ClientRole::Observer) {
+        for (const auto& [id, other] : clients_) {
+            if (other.get() != &client && other->greeted && !other->closing && other->hello.role == hello->role)
+                return sendError(client, {"role_taken", QStringLiteral("client %1 already drives the %2 team").arg(id).arg(roleName(hello->role))}, true);
+        }
+    }
+    client.hello = *hello;
+    client.greeted = true;
+    client.helloTimer->stop();
+    log(client, QStringLiteral("HELLO: images %1, state %2")
+                    .arg(hello->images ? subscriptionName(*hello->images) : QStringLiteral("none"))
+                    .arg(hello->state ? "yes" : "no"));
+    send(client, protocol::encodeJsonMessage(protocol::MessageType::Welcome, welcome(client)));
+    if (hello->images) {
+        const std::shared_ptr<const Snapshot> snapshot = engine_.snapshots().latest();
+        protocol::FrameHeader header;
+        header.frame = snapshot ? static_cast<std::uint32_t>(snapshot->frame) : 0;
+        header.time = snapshot ? snapshot->time : 0.0;
+        header.kind = protocol::FrameKind::Background;
+        header.encoding = hello->images->encoding;
+        const cv::Mat& image = background_.background();
+        std::vector<protocol::FramePatch> patches{
+            {0, 0, image.cols, image.rows, encodeImage(image, hello->images->encoding, hello->images->jpegQuality)}};
+        send(client, protocol::encodeMessage(protocol::MessageType::Frame, protocol::encodeFrame(header, patches)));
+    }
+    updateSubscriptions();
+}
+
+QJsonObject ControlServer::welcome(const Client& client) const {
+    const std::shared_ptr<const Snapshot> snapshot = engine_.snapshots().latest();
+    QJsonArray robots;
+    std::map<Team, int> perTeam;
+    for (std::size_t i = 0; i < scene_.robots.size(); ++i) {
+        const RobotSpec& r = scene_.robots[i];
+        robots.append(QJsonObject{{"index", static_cast<int>(i)},
+                                  {"name", QString::fromStdString(r.name)},
+                                  {"team", teamName(r.team)},
+                                  {"id", perTeam[r.team]++},
+                                  {"side", r.params.side},
+                                  {"max_voltage", r.params.max_voltage}});
+    }
+    const CameraGeometry& camera = background_.geometry();
+    QJsonObject cameraJson{{"width", camera.width},       {"height", camera.height},
+                           {"scale", camera.scale},       {"centre_u", camera.centreU},
+                           {"centre_v", camera.centreV}};
+    cameraJson["images"] = client.hello.images ? (client.hello.images->kind == protocol::FrameKind::Full ? "full" : "patches") : "none";
+    if (client.hello.images) cameraJson["encoding"] = encodingName(client.hello.images->encoding);
+    const double dt = scene_.simulation.dt;
+    const double framePeriod = engine_.framePeriod();
+    return QJsonObject{
+        {"protocol", protocol::kVersion},
+        {"server", QStringLiteral("vssim %1").arg(VSSIM_VERSION)},
+        {"client", client.id},
+        {"role", roleName(client.hello.role)},
+        {"mode", snapshot ? runModeName(snapshot->mode) : "realtime"},
+        {"speed", snapshot ? snapshot->speed : 1.0},
+        {"paused", snapshot ? snapshot->paused : false},
+        {"time", snapshot ? snapshot->time : 0.0},
+        {"frame", snapshot ? static_cast<double>(snapshot->frame) : 0.0},
+        {"dt", dt},
+        {"frame_period", framePeriod},
+        {"field", QJsonObject{{"length", scene_.field.length}, {"width", scene_.field.width}}},
+        {"ball", QJsonObject{{"radius", scene_.ball_params.radius}}},
+        {"camera", cameraJson},
+        {"robots", robots},
+    };
+}
+
+void ControlServer::sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
+    if (client.closing) return;
+    if (client.errorsLogged < 20) {
+        log(client, QStringLiteral("%1 error %2: %3").arg(fatal ? "fatal" : "").arg(error.code, error.message).trimmed());
+        if (++client.errorsLogged == 20) log(client, "further errors from this client are not logged");
+    }
+    QJsonObject json{{"error", error.code}, {"message", error.message}, {"fatal", fatal}, {"id", id.isUndefined() ? QJsonValue() : id}};
+    send(client, protocol::encodeJsonMessage(protocol::MessageType::Error, json));
+    if (fatal) drop(client, QStringLiteral("closed after a fatal %1 error").arg(error.code));
+}
+
+void ControlServer::send(Client& client, const QByteArray& bytes) {
+    if (client.closing) return;
+    if (client.socket->bytesToWrite() + bytes.size() > settings_.maxUnsentBytes) {
+        drop(client, QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)").arg(settings_.maxUnsentBytes >> 20));
+        return;
+    }
+    client.socket->write(bytes);
+}
+
+void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray state) {
+    if (client.closing) return;
+    if (client.socket->bytesToWrite() > settings_.frameBacklogBytes) {
+        if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) ++client.framesDropped;
+        client.pendingFrame = std::move(frame);
+        client.pendingState = std::move(state);
+        return;
+    }
+    if (!frame.isEmpty()) {
+        send(client, frame);
+        ++client.framesSent;
+    }
+    if (!state.isEmpty()) send(client, state);
+}
+
+void ControlServer::flushPending(Client& client) {
+    if (client.closing || client.socket->bytesToWrite() > settings_.frameBacklogBytes) return;
+    if (client.pendingFrame.isEmpty() && client.pendingState.isEmpty()) return;
+    QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
+    client.pendingFrame.clear();
+    client.pendingState.clear();
+    sendNewest(client, std::move(frame), std::move(state));
+}
+
+void ControlServer::drainEngine() {
+    for (OutboxItem& item : engine_.takeOutbox()) {
+        if (item.frame) {
+            for (auto& [id, client] : clients_) {
+                if (!client->greeted || client->closing) continue;
+                QByteArray frame, state;
+                if (client->hello.images)
+                    for (const auto& [sub, bytes] : item.frame->images)
+                        if (sub == *client->hello.images) frame = bytes;
+                if (client->hello.state) state = item.frame->state;
+                sendNewest(*client, frame, state);
+            }
+        } else if (item.reply) {
+            const EngineReply& r = *item.reply;
+            auto it = clients_.find(r.client);
+            if (it == clients_.end()) continue;
+            Client& client = *it->second;
+            if (r.command == QLatin1String("stats")) client.statsPending = false;
+            // A frame held back for a slow reader is older than this reply:
+            // it goes first (protocol.md: a step's FRAME comes before its REPLY).
+            if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) {
+                QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
+                client.pendingFrame.clear();
+                client.pendingState.clear();
+                if (!frame.isEmpty()) send(client, frame);
+                if (!state.isEmpty()) send(client, state);
+            }
+            if (!r.ok) {
+                sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
+                continue;
+            }
+            QJsonObject json{{"id", r.id.isUndefined() ? QJsonValue() : r.id},
+                             {"command", r.command},
+                             {"ok", true},
+                             {"time", r.time},
+                             {"frame", static_cast<double>(r.frame)}};
+            if (!r.extra.isEmpty()) {
+                QJsonObject extra = r.extra;
+                extra["clients"] = clientCount();
+                std::int64_t dropped = 0;
+                for (const auto& [id, c] : clients_) dropped += c->framesDropped;
+                extra["frames_dropped_for_slow_clients"] = static_cast<double>(dropped);
+                json["stats"] = extra;
+            }
+            send(client, protocol::encodeJsonMessage(protocol::MessageType::Reply, json));
+        }
+    }
+}
+
+void ControlServer::updateSubscriptions() {
+    std::vector<ImageSubscription> images;
+    bool state = false;
+    for (const auto& [id, client] : clients_) {
+        if (!client->greeted || client->closing) continue;
+        state = state || client->hello.state;
+        if (client->hello.images && std::find(images.begin(), images.end(), *client->hello.images) == images.end())
+            images.push_back(*client->hello.images);
+    }
+    engine_.setSubscriptions(images, state);
+}
+
+void ControlServer::drop(Client& client, const QString& why) {
+    if (client.closing) return;
+    log(client, why);
+    client.closing = true;
+    stopRobots(client);  // now, as its role is free from now on
+    client.socket->disconnectFromHost();  // after the unsent bytes (the error reply) are written
+    // A client that never reads would keep the connection open: close hard
+    // after a grace period.
+    QTimer::singleShot(2000, client.socket, [socket = client.socket] { socket->abort(); });
+    updateSubscriptions();
+}
+
+void ControlServer::stopRobots(Client& client) {
+    if (client.robotsStopped || !client.greeted || client.hello.role == ClientRole::Observer) return;
+    client.robotsStopped = true;
+    // Its robots stop, as real robots would when their radio link dies.
+    const Team team = client.hello.role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
+    EngineRequest stop;
+    stop.kind = EngineRequest::Kind::Voltages;
+    stop.arrivalNs = monotonicNs();
+    for (std::size_t i = 0; i < scene_.robots.size(); ++i)
+        if (scene_.robots[i].team == team) stop.voltages.emplace_back(static_cast<int>(i), Voltages{});
+    if (!stop.voltages.empty()) engine_.post(std::move(stop));
+}
+
+void ControlServer::forget(int id) {
+    auto it = clients_.find(id);
+    if (it == clients_.end()) return;
+    Client& client = *it->second;
+    log(client, client.framesDropped > 0 ? QStringLiteral("disconnected (%1 frames dropped: it did not read fast enough)").arg(client.framesDropped)
+                                         : QStringLiteral("disconnected"));
+    stopRobots(client);
+    client.socket->deleteLater();
+    clients_.erase(it);
+    updateSubscriptions();
+}
+
+}  // namespace vssim

@@ -1,0 +1,102 @@
+// The TCP side of docs/protocol.md: accepts clients, checks what they send,
+// posts requests to the engine thread stamped with their arrival time, and
+// writes the engine's frames, states and replies back. Lives in the thread
+// that owns it (the main thread); never blocks on a client: a client that
+// does not read loses old frames (the newest is kept), and one that lets more
+// than maxUnsentBytes pile up is disconnected.
+#pragma once
+
+#include <QHostAddress>
+#include <QObject>
+#include <QTcpServer>
+#include <functional>
+#include <map>
+#include <memory>
+
+#include "camera/camera_renderer.h"
+#include "net/client_requests.h"
+#include "realtime/engine_thread.h"
+#include "wire/protocol.h"
+
+class QTcpSocket;
+class QTimer;
+
+namespace vssim {
+
+struct ServerSettings {
+    QHostAddress address = QHostAddress::LocalHost;
+    quint16 port = protocol::kDefaultPort;  // 0: any free port
+    int helloTimeoutMs = 5000;              // a client must say HELLO within this
+    qint64 frameBacklogBytes = 1 << 20;     // unsent bytes above which new frames wait (newest kept)
+    qint64 maxUnsentBytes = 64 << 20;       // unsent bytes above which a client is disconnected
+    int maxClients = 64;
+};
+
+// One connected client, for a connections panel.
+struct ClientInfo {
+    int id = 0;
+    QString peer;         // address:port
+    bool greeted = false;
+    QString role;         // yellow, blue, observer
+    QString name;
+    QString images;       // e.g. "patches/png", or "none"
+    bool state = false;
+    std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
+    double connectedSeconds = 0.0;
+};
+
+// Requests one client may have waiting for the engine (a flood gets `busy`).
+constexpr int kMaxQueuedPerClient = 500;
+
+class ControlServer : public QObject {
+    Q_OBJECT
+public:
+    ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent = nullptr);
+    ~ControlServer() override;
+
+    bool listen(QString* error);
+    quint16 port() const { return server_.serverPort(); }
+    QHostAddress address() const { return server_.serverAddress(); }
+    int clientCount() const { return static_cast<int>(clients_.size()); }
+    std::vector<ClientInfo> clients() const;
+    // Another scene (the desktop app opened one): every client is told
+    // (ERROR scene_changed, fatal) and disconnected, since its WELCOME no
+    // longer holds. The engine gets the scene separately (LoadScene).
+    void setScene(const Scene& scene);
+    // New integrator, dt or collision settings (clients stay; later WELCOMEs say so).
+    void setSimulationSettings(const SimulationSettings& settings) { scene_.simulation = settings; }
+
+signals:
+    // One line for the log: connections, greetings, errors, disconnections.
+    void logLine(const QString& line);
+
+private:
+    struct Client;
+
+    void accept();
+    void readFrom(Client& client);
+    void handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs);
+    void greet(Client& client, const QJsonObject& json);
+    void sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id = QJsonValue());
+    void send(Client& client, const QByteArray& bytes);
+    void sendNewest(Client& client, QByteArray frame, QByteArray state);
+    void flushPending(Client& client);
+    void drop(Client& client, const QString& why);
+    void forget(int id);
+    void stopRobots(Client& client);            // 0 V to a team client's robots, once
+    bool post(Client& client, EngineRequest request);  // false: its quota or the queue is full
+    void drainEngine();
+    void updateSubscriptions();
+    QJsonObject welcome(const Client& client) const;
+    void log(const Client& client, const QString& text);
+
+    Scene scene_;
+    EngineThread& engine_;
+    ServerSettings settings_;
+    CameraRenderer background_;  // for the background images sent on HELLO
+    QTcpServer server_;
+    std::map<int, std::unique_ptr<Client>> clients_;
+    int nextId_ = 1;
+};
+
+}  // namespace vssim

@@ -1,0 +1,248 @@
+#include "realtime/engine_loop.h"
+
+#include <QJsonArray>
+#include <algorithm>
+#include <cmath>
+
+namespace vssim {
+
+// The camera period in whole steps of dt (at least one).
+static std::int64_t stepsPerFrame(double framePeriod, double dt) {
+    return std::max<std::int64_t>(1, std::llround(framePeriod / dt));
+}
+
+const char* runModeName(RunMode mode) {
+    switch (mode) {
+        case RunMode::Realtime: return "realtime";
+        case RunMode::Max: return "max";
+        case RunMode::Lockstep: return "lockstep";
+    }
+    return "?";
+}
+
+EngineLoop::EngineLoop(const Scene& scene, const EngineLoopSettings& settings, EngineSink& sink)
+    : scene_(scene),
+      settings_(settings),
+      sink_(sink),
+      sim_(std::make_unique<Simulation>(scene)),
+      mode_(settings.mode),
+      speed_(settings.speed) {
+    frameSteps_ = stepsPerFrame(settings.framePeriod, scene.simulation.dt);
+    nextFrameStep_ = frameSteps_;
+    control_.assign(scene.robots.size(), RobotControl{});
+}
+
+void EngineLoop::start(std::int64_t nowNs) {
+    reanchor(nowNs);
+    emitInstant(nowNs);
+}
+
+void EngineLoop::reanchor(std::int64_t nowNs) {
+    anchorNs_ = nowNs;
+    anchorStep_ = sim_->state().step;
+}
+
+double EngineLoop::simTimeAt(std::int64_t nowNs) const {
+    return (anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / sim_->dt()) * sim_->dt();
+}
+
+std::int64_t EngineLoop::stepAt(std::int64_t nowNs) const {
+    // In steps, so that the anchor's own rounding does not accumulate.
+    const double steps = anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / sim_->dt();
+    return Simulation::stepIndexAtOrAfter(steps, 1.0);
+}
+
+std::int64_t EngineLoop::nextWakeNs() const {
+    if (paused_ || mode_ == RunMode::Lockstep) return std::numeric_limits<std::int64_t>::max();
+    if (mode_ == RunMode::Max) return 0;
+    const double wakeNs = static_cast<double>(anchorNs_) +
+                          std::ceil(static_cast<double>(nextFrameStep_ - anchorStep_) * sim_->dt() / speed_ * 1e9);
+    // Saturate rather than overflow the conversion (a tiny speed factor).
+    if (!(wakeNs < 9.2e18)) return std::numeric_limits<std::int64_t>::max();
+    return static_cast<std::int64_t>(wakeNs);
+}
+
+void EngineLoop::emitInstant(std::int64_t nowNs) {
+    sink_.cameraInstant(*sim_, frame_, nowNs);
+}
+
+void EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
+    while (nextFrameStep_ <= target) {
+        sim_->advanceTo(nextFrameStep_);
+        ++frame_;
+        nextFrameStep_ += frameSteps_;
+        emitInstant(nowNs);
+    }
+    sim_->advanceTo(target);
+}
+
+bool EngineLoop::catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps) {
+    const std::int64_t target = stepAt(wallNs);
+    const std::int64_t behind = target - sim_->state().step;
+    if (behind <= 0) return behind == 0;
+    // Fallen further behind than maxLag of wall time (a stalled machine, a
+    // speed factor beyond what the engine sustains): drop the lag instead of
+    // never catching up.
+    if (static_cast<double>(behind) * sim_->dt() / speed_ > settings_.maxLag) {
+        ++stats_.lagResets;
+        reanchor(wallNs);
+        return true;
+    }
+    advanceTo(behind > budgetSteps ? sim_->state().step + budgetSteps : target, nowNs);
+    return true;
+}
+
+void EngineLoop::runUntil(std::int64_t nowNs) {
+    if (paused_ || mode_ == RunMode::Lockstep) return;
+    if (mode_ == RunMode::Max) {
+        advanceTo(nextFrameStep_, nowNs);
+        return;
+    }
+    // A few frame periods per call at most, so that requests are read
+    // between them even when the simulation runs behind.
+    catchUp(nowNs, nowNs, kMaxFramesPerPass * frameSteps_);
+}
+
+void EngineLoop::restart(std::int64_t arrivalNs, std::int64_t nowNs) {
+    sim_ = std::make_unique<Simulation>(scene_);
+    restartClock(arrivalNs, nowNs);
+}
+
+void EngineLoop::restartClock(std::int64_t arrivalNs, std::int64_t nowNs) {
+    frame_ = 0;
+    nextFrameStep_ = frameSteps_;
+    reanchor(arrivalNs);
+    emitInstant(nowNs);
+}
+
+void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
+    using Kind = EngineRequest::Kind;
+    // In realtime mode every request acts at the instant it arrived.
+    if (running() && !catchUp(r.arrivalNs, nowNs, std::numeric_limits<std::int64_t>::max()) && r.kind == Kind::Voltages)
+        ++stats_.lateCommands;
+    switch (r.kind) {
+        case Kind::Voltages: {
+            for (const auto& [robot, e] : r.voltages) {
+                RobotControl& c = control_[robot];
+                c.lastTcp = e;
+                c.client = r.client;
+                if (c.controller == RobotController::Manual) {
+                    c.tcpWhileManual = true;  // a person has it: TCP is ignored
+                    continue;
+                }
+                c.controller = RobotController::Tcp;
+                sim_->setVoltages(robot, e);
+            }
+            stats_.commandLatencyMs.add(1e-6 * static_cast<double>(nowNs - r.arrivalNs));
+            if (running()) {
+                const double arrivalTime = simTimeAt(r.arrivalNs);
+                stats_.commandDelayMs.add(1e3 * std::max(0.0, sim_->state().time - arrivalTime));
+            } else {
+                stats_.commandDelayMs.add(0.0);
+            }
+            return;  // voltages get no reply (errors are the server's)
+        }
+        case Kind::ManualVoltages:
+            for (const auto& [robot, e] : r.voltages) {
+                control_[robot].controller = RobotController::Manual;
+                sim_->setVoltages(robot, e);
+            }
+            return;
+        case Kind::ReleaseManual: {
+            RobotControl& c = control_[r.robot];
+            if (c.controller == RobotController::Manual) {
+                c.controller = c.client >= 0 ? RobotController::Tcp : RobotController::None;
+                sim_->setVoltages(r.robot, c.client >= 0 ? c.lastTcp : Voltages{});
+                c.tcpWhileManual = false;
+            }
+            break;
+        }
+        case Kind::LoadScene:
+            scene_ = *r.scene;
+            frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
+            control_.assign(scene_.robots.size(), RobotControl{});
+            restart(r.arrivalNs, nowNs);
+            break;
+        case Kind::SetSettings: {
+            const WorldState before = sim_->state();
+            scene_.simulation = r.scene->simulation;
+            frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
+            Scene now = scene_;
+            now.commands.clear();  // the schedule's times refer to the old clock
+            sim_ = std::make_unique<Simulation>(now);
+            for (std::size_t i = 0; i < before.robots.size(); ++i) {
+                sim_->placeRobot(static_cast<int>(i), before.robots[i]);
+                sim_->setVoltages(static_cast<int>(i), before.voltages[i]);
+            }
+            sim_->placeBall(before.ball);
+            restartClock(r.arrivalNs, nowNs);
+            break;
+        }
+        case Kind::Pause:
+            paused_ = true;
+            break;
+        case Kind::Resume:
+            if (paused_) {
+                paused_ = false;
+                reanchor(r.arrivalNs);
+            }
+            break;
+        case Kind::Step: {
+            if (!paused_ && mode_ != RunMode::Lockstep)
+                return replyTo(r, nowNs, "not_paused", "step works only while paused or in lockstep mode");
+            const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, sim_->dt());
+            sim_->advanceTo(sim_->state().step + steps);
+            ++frame_;
+            nextFrameStep_ = sim_->state().step + frameSteps_;
+            emitInstant(nowNs);
+            break;
+        }
+        case Kind::Reset:
+            for (RobotControl& c : control_) c.lastTcp = Voltages{};
+            restart(r.arrivalNs, nowNs);
+            break;
+        case Kind::PlaceRobot:
+            sim_->placeRobot(r.robot, r.robotPose);
+            break;
+        case Kind::PlaceBall:
+            sim_->placeBall(r.ball);
+            break;
+        case Kind::Speed:
+            if (mode_ == RunMode::Lockstep)
+                return replyTo(r, nowNs, "lockstep", "the speed cannot change in lockstep mode");
+            mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;
+            if (r.speed > 0) speed_ = r.speed;
+            reanchor(r.arrivalNs);
+            break;
+        case Kind::Stats:
+            return replyTo(r, nowNs, {}, {}, statsJson());
+    }
+    replyTo(r, nowNs);
+}
+
+QJsonObject EngineLoop::statsJson() const {
+    return QJsonObject{
+        {"command_latency_ms", toJson(stats_.commandLatencyMs.summary())},
+        {"command_delay_ms", toJson(stats_.commandDelayMs.summary())},
+        {"late_commands", static_cast<double>(stats_.lateCommands)},
+        {"lag_resets", static_cast<double>(stats_.lagResets)},
+    };
+}
+
+void EngineLoop::replyTo(const EngineRequest& r, std::int64_t /*nowNs*/, const QString& error, const QString& message,
+                         const QJsonObject& extra) {
+    if (r.client < 0) return;
+    EngineReply reply;
+    reply.client = r.client;
+    reply.id = r.id;
+    reply.command = r.command;
+    reply.ok = error.isEmpty();
+    reply.error = error;
+    reply.message = message;
+    reply.time = sim_->state().time;
+    reply.frame = frame_;
+    reply.extra = extra;
+    sink_.reply(reply);
+}
+
+}  // namespace vssim

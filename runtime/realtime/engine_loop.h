@@ -1,0 +1,136 @@
+// The real-time loop of model.md §8, as plain logic: no thread, no clock of
+// its own. The engine thread (engine_thread.h) feeds it requests stamped with
+// their arrival time and the current time, both from monotonicNs(); tests
+// feed it made-up times.
+//
+// Modes:
+//   realtime  simulated time = anchor + speed * (wall time - wall anchor);
+//             a request takes effect at the simulated instant it arrived (the
+//             first step boundary at or after it); a camera instant every
+//             frame period of simulated time.
+//   max       as fast as possible: one frame period per runUntil() call;
+//             requests take effect between frame periods.
+//   lockstep  time advances only on `step` requests; each ends with a camera
+//             instant. Same scene and same requests: bit-identical results.
+// Paused (realtime or max): time stands still; `step` works as in lockstep.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+#include "realtime/engine_request.h"
+#include "realtime/sample_stats.h"
+#include "vssim/scene.h"
+#include "vssim/world.h"
+
+namespace vssim {
+
+enum class RunMode { Realtime, Max, Lockstep };
+
+// Who drives a robot now.
+enum class RobotController { None, Tcp, Manual };
+struct RobotControl {
+    RobotController controller = RobotController::None;
+    int client = -1;              // the TCP client whose voltages it last took (Tcp), or -1
+    Voltages lastTcp;             // the last TCP voltages, also while under manual control, V
+    bool tcpWhileManual = false;  // TCP voltages arrived (and were ignored) under manual control
+};
+const char* runModeName(RunMode mode);
+
+// Where the loop's output goes: camera instants and replies.
+class EngineSink {
+public:
+    virtual ~EngineSink() = default;
+    // A camera instant: the simulation is exactly at frame `frame`'s time.
+    virtual void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) = 0;
+    virtual void reply(const EngineReply& reply) = 0;
+};
+
+struct EngineLoopSettings {
+    RunMode mode = RunMode::Realtime;
+    double speed = 1.0;          // real-time factor (realtime mode), > 0
+    double framePeriod = 0.03;   // camera period, s of simulated time (rounded to whole steps)
+    double maxLag = 0.5;         // s of wall time: further behind than this, realtime drops the lag
+};
+
+// The real-time factors a realtime loop accepts (faster: max mode).
+constexpr double kMinSpeed = 1e-3;
+constexpr double kMaxSpeed = 100.0;
+// Frame periods runUntil() simulates at most per call.
+constexpr std::int64_t kMaxFramesPerPass = 4;
+
+// What the loop measured (wall-clock figures in ms).
+struct EngineLoopStats {
+    SampleStats commandLatencyMs;  // from a voltage command's arrival to its application, wall clock
+    SampleStats commandDelayMs;    // simulated time from arrival instant to the step it took effect at
+    std::int64_t lateCommands = 0; // commands that arrived for an instant already simulated
+    std::int64_t lagResets = 0;    // times realtime fell more than maxLag behind and dropped the lag
+};
+
+class EngineLoop {
+public:
+    EngineLoop(const Scene& scene, const EngineLoopSettings& settings, EngineSink& sink);
+
+    // Anchors simulated time to nowNs and emits camera instant 0.
+    void start(std::int64_t nowNs);
+    // Applies one request (at its arrival instant, in realtime mode; a
+    // resume, speed change or reset restarts the clock from its arrival).
+    void handle(const EngineRequest& request, std::int64_t nowNs);
+    // Realtime: simulates up to nowNs (camera instants on the way). Max: one
+    // frame period. Paused or lockstep: nothing.
+    void runUntil(std::int64_t nowNs);
+    // When runUntil next has work: the wall time of the next camera instant
+    // (realtime), 0 (max: now), or the largest int64 (paused, lockstep).
+    std::int64_t nextWakeNs() const;
+
+    const Simulation& simulation() const { return *sim_; }
+    const Scene& scene() const { return scene_; }
+    const std::vector<RobotControl>& control() const { return control_; }
+    std::int64_t frame() const { return frame_; }
+    std::int64_t frameSteps() const { return frameSteps_; }
+    RunMode mode() const { return mode_; }
+    bool paused() const { return paused_; }
+    double speed() const { return speed_; }
+    const EngineLoopStats& stats() const { return stats_; }
+    // The simulated time (s) that wall time nowNs maps to (realtime, running).
+    double simTimeAt(std::int64_t nowNs) const;
+
+private:
+    Scene scene_;
+    EngineLoopSettings settings_;
+    std::vector<RobotControl> control_;  // per robot
+    EngineSink& sink_;
+    std::unique_ptr<Simulation> sim_;
+    RunMode mode_;
+    bool paused_ = false;
+    double speed_;
+    std::int64_t frameSteps_;       // steps of dt per frame period
+    std::int64_t frame_ = 0;        // camera instants since start/reset
+    std::int64_t nextFrameStep_;    // step index of the next camera instant
+    std::int64_t anchorNs_ = 0;     // wall time at which the simulation was at anchorStep_
+    std::int64_t anchorStep_ = 0;
+    EngineLoopStats stats_;
+
+    bool running() const { return mode_ == RunMode::Realtime && !paused_; }
+    // Simulated time restarts from the current step at wall time wallNs.
+    void reanchor(std::int64_t wallNs);
+    // Realtime: advances towards the step of wall time wallNs, by at most
+    // budgetSteps; drops the lag when it exceeds maxLag. False when the
+    // simulation is already past that step (the request came late).
+    bool catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps);
+    // Advances to step `target`, with a camera instant at each one passed.
+    void advanceTo(std::int64_t target, std::int64_t nowNs);
+    // The first step boundary at or after the simulated instant of nowNs.
+    std::int64_t stepAt(std::int64_t nowNs) const;
+    void emitInstant(std::int64_t nowNs);
+    // The scene from its beginning: time 0, frame 0 (emitted).
+    void restart(std::int64_t arrivalNs, std::int64_t nowNs);
+    // Frame 0 now (emitted), the clock anchored at arrivalNs.
+    void restartClock(std::int64_t arrivalNs, std::int64_t nowNs);
+    void replyTo(const EngineRequest& request, std::int64_t nowNs, const QString& error = {},
+                 const QString& message = {}, const QJsonObject& extra = {});
+    QJsonObject statsJson() const;
+};
+
+}  // namespace vssim

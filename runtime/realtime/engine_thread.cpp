@@ -1,0 +1,205 @@
+#include "realtime/engine_thread.h"
+
+#include <QJsonArray>
+#include <chrono>
+
+#include "camera/image_patches.h"
+#include "realtime/monotonic_clock.h"
+#include "wire/state_message.h"
+
+namespace vssim {
+
+EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& settings, QObject* parent)
+    : QThread(parent), scene_(scene), settings_(settings), renderer_(scene) {
+    // Readers see the initial state (and the mode) from the start, before
+    // the thread runs.
+    EngineLoop initial(scene_, settings_, *this);
+    sceneShared_ = std::make_shared<const Scene>(scene_);
+    framePeriod_ = static_cast<double>(initial.frameSteps()) * scene_.simulation.dt;
+    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, sceneShared_, 0.0, monotonicNs())));
+}
+
+double EngineThread::framePeriod() const {
+    return framePeriod_.load();
+}
+
+EngineThread::~EngineThread() {
+    requestStop();
+    wait();
+}
+
+bool EngineThread::post(EngineRequest request) {
+    {
+        std::lock_guard lock(mutex_);
+        if (inbox_.size() >= kMaxQueuedRequests) return false;
+        inbox_.push_back(std::move(request));
+    }
+    wake_.notify_one();
+    return true;
+}
+
+void EngineThread::setSubscriptions(const std::vector<ImageSubscription>& images, bool state) {
+    std::lock_guard lock(mutex_);
+    images_ = images;
+    stateWanted_ = state;
+}
+
+void EngineThread::requestStop() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_one();
+    {
+        std::lock_guard lock(outboxMutex_);
+    }
+    framesTaken_.notify_all();
+}
+
+std::vector<OutboxItem> EngineThread::takeOutbox() {
+    std::lock_guard lock(outboxMutex_);
+    std::vector<OutboxItem> items;
+    items.swap(outbox_);
+    for (const OutboxItem& item : items)
+        if (item.frame) framesPending_.fetch_sub(1);
+    framesTaken_.notify_all();
+    return items;
+}
+
+void EngineThread::push(OutboxItem item) {
+    bool wasEmpty;
+    {
+        std::lock_guard lock(outboxMutex_);
+        if (item.frame) {
+            // A reader that has fallen far behind (a stalled main thread)
+            // loses the oldest frames rather than the engine's memory.
+            std::size_t frames = 0;
+            for (const OutboxItem& queued : outbox_) frames += queued.frame ? 1 : 0;
+            if (frames >= kMaxQueuedFrames) {
+                for (auto it = outbox_.begin(); it != outbox_.end(); ++it) {
+                    if (it->frame) {
+                        outbox_.erase(it);
+                        framesPending_.fetch_sub(1);
+                        ++framesDropped_;
+                        break;
+                    }
+                }
+            }
+        }
+        if (item.reply && item.reply->command == QLatin1String("stats") && item.reply->ok)
+            item.reply->extra["frames_dropped_unsent"] = static_cast<double>(framesDropped_);
+        wasEmpty = outbox_.empty();
+        outbox_.push_back(std::move(item));
+    }
+    if (wasEmpty) emit outboxReady();
+}
+
+void EngineThread::run() {
+    encoder_ = std::make_unique<FrameEncoder>(
+        [this](std::shared_ptr<const FramePacket> frame, std::optional<EngineReply> reply) {
+            push(OutboxItem{std::move(frame), std::move(reply)});
+        });
+    EngineLoop loop(scene_, settings_, *this);
+    loop_ = &loop;
+    loop.start(monotonicNs());
+    started_ = true;
+    snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, sceneShared_, 0.0, monotonicNs())));
+    std::vector<EngineRequest> batch;
+    for (;;) {
+        {
+            std::unique_lock lock(mutex_);
+            auto ready = [&] { return stop_ || !inbox_.empty(); };
+            const std::int64_t wakeNs = loop.nextWakeNs();
+            if (wakeNs == std::numeric_limits<std::int64_t>::max()) {
+                wake_.wait(lock, ready);
+            } else if (wakeNs > monotonicNs()) {
+                const std::chrono::steady_clock::time_point until{std::chrono::nanoseconds(wakeNs)};
+                wake_.wait_until(lock, until, ready);
+            }
+            if (stop_) break;
+            // A slice at a time, so that a flood cannot hold simulated time still.
+            const std::size_t n = std::min(inbox_.size(), kMaxRequestsPerPass);
+            batch.assign(std::make_move_iterator(inbox_.begin()), std::make_move_iterator(inbox_.begin() + n));
+            inbox_.erase(inbox_.begin(), inbox_.begin() + n);
+        }
+        const std::int64_t startNs = monotonicNs();
+        const double simStart = loop.simulation().state().time;
+        for (const EngineRequest& request : batch) {
+            if (request.kind == EngineRequest::Kind::LoadScene) {
+                // The camera draws the new robots; readers see the new scene.
+                renderer_ = CameraRenderer(*request.scene);
+                sceneShared_ = request.scene;
+            }
+            loop.handle(request, monotonicNs());
+            if (request.kind == EngineRequest::Kind::LoadScene || request.kind == EngineRequest::Kind::SetSettings)
+                framePeriod_ = static_cast<double>(loop.frameSteps()) * loop.scene().simulation.dt;
+            if (request.queued) request.queued->fetch_sub(1);
+        }
+        loop.runUntil(monotonicNs());
+        const std::int64_t endNs = monotonicNs();
+        const double simulated = loop.simulation().state().time - simStart;
+        const double stepCost = simulated > 0 ? 1e-9 * static_cast<double>(endNs - startNs) / simulated : 0.0;
+        snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(loop, sceneShared_, stepCost, endNs)));
+    }
+    loop_ = nullptr;
+    encoder_.reset();  // finishes the jobs queued
+}
+
+void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) {
+    EncodeJob job;
+    bool stateWanted;
+    {
+        std::lock_guard lock(mutex_);
+        job.subscriptions = images_;
+        stateWanted = stateWanted_;
+    }
+    if (job.subscriptions.empty() && !stateWanted) return;  // nobody is watching: no rendering
+    const bool running = loop_->mode() != RunMode::Lockstep && !loop_->paused();
+    if (loop_->mode() == RunMode::Realtime && running) {
+        if (lastInstantNs_ >= 0) framePeriodMs_.add(1e-6 * static_cast<double>(nowNs - lastInstantNs_));
+        lastInstantNs_ = nowNs;
+    } else {
+        lastInstantNs_ = -1;
+    }
+    // Render only when the server keeps up: as fast as possible, once it
+    // has taken the previous frame (instead of rendering thousands nobody
+    // could send); otherwise while fewer than kMaxPendingFrames wait to be
+    // encoded or taken, which bounds the memory they hold.
+    const int pendingLimit = loop_->mode() == RunMode::Max && running ? 1 : kMaxPendingFrames;
+    if (!running) {
+        // The instant that ends a step: wait for the server to take frames.
+        std::unique_lock lock(outboxMutex_);
+        framesTaken_.wait(lock, [&] { return framesPending_.load() < pendingLimit || stop_.load(); });
+    } else if (framesPending_.load() >= pendingLimit) {
+        ++framesSkipped_;
+        return;
+    }
+    framesPending_.fetch_add(1);
+    job.frame = frame;
+    job.time = sim.state().time;
+    if (!job.subscriptions.empty()) {
+        const std::int64_t startNs = monotonicNs();
+        renderer_.render(sim.state(), job.image, job.patches);  // a new image each time: the encoder owns it
+        renderMs_.add(1e-6 * static_cast<double>(monotonicNs() - startNs));
+        double area = 0.0;
+        for (const cv::Rect& r : job.patches) area += r.area();
+        patchPercent_.add(100.0 * area / (static_cast<double>(job.image.cols) * job.image.rows));
+    }
+    if (stateWanted) job.state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame));
+    encoder_->submit(std::move(job));
+}
+
+void EngineThread::reply(const EngineReply& reply) {
+    EncodeJob job;
+    job.reply = reply;
+    if (reply.command == QLatin1String("stats") && reply.ok) {
+        job.reply->extra["frame_period_ms"] = toJson(framePeriodMs_.summary());
+        job.reply->extra["render_ms"] = toJson(renderMs_.summary());
+        job.reply->extra["patch_area_percent"] = toJson(patchPercent_.summary());
+        job.reply->extra["frames_skipped"] = static_cast<double>(framesSkipped_);
+    }
+    // Through the encoder, to stay in order with the frames before it.
+    encoder_->submit(std::move(job));
+}
+
+}  // namespace vssim
