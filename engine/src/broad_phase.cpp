@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vssim/geometry.h"
+
 namespace vssim {
 
 void candidatePairs(const std::vector<RobotState>& robots, const std::vector<double>& sides, double margin,
                     BroadPhaseScratch& scratch, std::vector<std::pair<int, int>>& pairs) {
     const int n = static_cast<int>(robots.size());
     const std::size_t first = pairs.size();
-    auto reach = [&](int i) { return sides[i] / std::sqrt(2.0) + margin; };  // m
+    auto reach = [&](int i) { return boundingRadius(sides[i]) + margin; };  // m
     const bool reuse = static_cast<int>(scratch.order.size()) == n;  // the order of the previous call
     scratch.order.resize(n);
     scratch.minX.resize(n);

@@ -46,7 +46,7 @@ std::optional<Contact> robotWallContact(const RobotState& robot, double side, in
                                         int wallIndex) {
     // Cheap rejection: no vertex can be beyond the wall when the centre is
     // more than half a diagonal inside it.
-    if (wall.normal.dot(centre(robot) - wall.a) > side / std::sqrt(2.0)) return std::nullopt;
+    if (wall.normal.dot(centre(robot) - wall.a) > boundingRadius(side)) return std::nullopt;
     if (!projectsOntoWall(wall, centre(robot), side)) return std::nullopt;
     double maxDepth = 0.0, weight = 0.0;
     Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
@@ -70,7 +70,7 @@ std::optional<Contact> robotWallContact(const RobotState& robot, double side, in
 std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex,
                                         const BallState& ball, double radius) {
     const Eigen::Vector2d c(ball.x, ball.y);
-    if ((c - centre(robot)).norm() > radius + side / std::sqrt(2.0)) return std::nullopt;  // cheap rejection
+    if ((c - centre(robot)).norm() > radius + boundingRadius(side)) return std::nullopt;  // cheap rejection
 
     Contact k;
     k.a = {BodyKind::Ball, 0};
@@ -108,7 +108,7 @@ std::optional<Contact> robotBallContact(const RobotState& robot, double side, in
 
 std::optional<Contact> robotRobotContact(const RobotState& a, double sideA, int indexA, const RobotState& b,
                                          double sideB, int indexB) {
-    if ((centre(a) - centre(b)).norm() > (sideA + sideB) / std::sqrt(2.0)) return std::nullopt;
+    if ((centre(a) - centre(b)).norm() > boundingRadius(sideA) + boundingRadius(sideB)) return std::nullopt;
     const SquareOverlap overlap = squareOverlap(a, sideA, b, sideB);
     if (!overlap.overlapping) return std::nullopt;
 

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vssim/geometry.h"
+
 namespace vssim {
 
 namespace {
@@ -102,7 +104,7 @@ Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, 
 
 double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
     const Eigen::Vector2d bound = velocityBound(model, state, e);
-    return bound(0) + model.params.side / std::sqrt(2.0) * bound(1);
+    return bound(0) + boundingRadius(model.params.side) * bound(1);
 }
 
 double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm) {

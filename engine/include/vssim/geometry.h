@@ -4,10 +4,15 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 #include "vssim/robot_state.h"
 
 namespace vssim {
+
+// The radius of the disc around a robot's centre that holds the square at any
+// heading: half its diagonal, s / sqrt2, m (model.md §5).
+inline double boundingRadius(double side) { return side / std::sqrt(2.0); }
 
 // Vertex j = 0..3 at (s/sqrt2)(cos, sin)(theta + 45deg + 90deg j) from the centre.
 std::array<Eigen::Vector2d, 4> robotVertices(const RobotState& pose, double side);

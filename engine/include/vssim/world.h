@@ -1,7 +1,8 @@
 // The world: every body of a scene, stepped together (model.md §2, §3, §5-§7).
 //
 // WorldModel is the constant part (built once from a Scene), WorldState the
-// mutable part; stepWorld() advances a state by one step of simulated time.
+// mutable part (world_model.h); stepWorld() advances a state by one step of
+// simulated time. The long-step planner (advanceTo) is in long_step_planner.cpp.
 // Simulation adds the scene's voltage-command schedule on top. Nothing here
 // reads a clock or keeps global state: the same scene, commands and calls
 // always give bit-identical states (advanceTo cut differently agrees with
@@ -13,36 +14,14 @@
 #include <utility>
 #include <vector>
 
-#include "vssim/ball.h"
 #include "vssim/broad_phase.h"
 #include "vssim/contact.h"
 #include "vssim/exact_integrator.h"
-#include "vssim/field.h"
-#include "vssim/robot_model.h"
-#include "vssim/robot_state.h"
+#include "vssim/free_bodies.h"
 #include "vssim/scene.h"
+#include "vssim/world_model.h"
 
 namespace vssim {
-
-struct WorldModel {
-    Field field;
-    SimulationSettings settings;
-    std::vector<RobotModel> robots;  // per robot, from its RobotParams
-    std::vector<double> sides;       // per robot, m (copied out for collision detection)
-    BallParams ball;
-};
-
-WorldModel makeWorldModel(const Scene& scene);
-
-struct WorldState {
-    std::int64_t step = 0;           // steps taken; simulated time = step * dt
-    double time = 0.0;               // s, always step * dt (not accumulated)
-    std::vector<RobotState> robots;
-    std::vector<Voltages> voltages;  // applied (clamped) voltages of each robot, V
-    BallState ball;
-};
-
-WorldState initialWorldState(const Scene& scene);
 
 // What one step did, for statistics and tests.
 struct StepReport {
@@ -67,21 +46,6 @@ struct AdvanceReport {
 // into equal sub-steps so that no collision is tunnelled through. Bodies never
 // end outside the field. Does not touch state.step / state.time.
 constexpr double kMaxTravelFraction = 0.25;
-
-// Which bodies certainly cannot touch another body or a wall within a
-// horizon, from their travel bounds (robotTravelBound for the exact
-// integrator; for Euler and RK4 a cruder one, see world.cpp; the ball's
-// straight free flight) and discs that hold each body at any heading.
-struct FreeBodies {
-    std::vector<char> robots;         // 1: robot i is free for the horizon
-    bool ball = false;                // the ball is free
-    bool all = false;                 // every body is free
-    std::vector<double> robotTravel;  // farthest any point of robot i can go within the horizon, m
-    double ballTravel = 0.0;          // m
-    std::vector<std::pair<int, int>> pairs;  // work buffers
-    BroadPhaseScratch broadPhase;
-};
-void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out);
 
 // Optional parts of a step.
 struct StepOptions {
@@ -162,7 +126,7 @@ private:
     // Integrates the chosen bodies (all robots when `robots` is null) by h, no contacts.
     void advanceBodies(double h, const std::vector<char>* robots, bool ball);
     void finishStep(std::int64_t steps);
-    std::int64_t ordinaryStep();  // one stepWorld of dt; returns its contacts
+    StepReport ordinaryStep();  // one stepWorld of dt, and the clock moves on by dt
     StepOptions cachedTables() {
         StepOptions options;
         options.tables = &tables_;

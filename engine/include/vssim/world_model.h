@@ -1,0 +1,41 @@
+// The world's bodies as data (model.md §2, §3, §5-§7): WorldModel is the
+// constant part of a scene (built once), WorldState the mutable part that
+// stepWorld() (world.h) advances.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vssim/ball.h"
+#include "vssim/field.h"
+#include "vssim/robot_model.h"
+#include "vssim/robot_state.h"
+#include "vssim/scene.h"
+
+namespace vssim {
+
+struct WorldModel {
+    Field field;
+    SimulationSettings settings;
+    std::vector<RobotModel> robots;  // per robot, from its RobotParams
+    std::vector<double> sides;       // per robot, m (copied out for collision detection)
+    BallParams ball;
+};
+
+WorldModel makeWorldModel(const Scene& scene);
+
+struct WorldState {
+    std::int64_t step = 0;           // steps taken; simulated time = step * dt
+    double time = 0.0;               // s, always step * dt (not accumulated)
+    std::vector<RobotState> robots;
+    std::vector<Voltages> voltages;  // applied (clamped) voltages of each robot, V
+    BallState ball;
+};
+
+WorldState initialWorldState(const Scene& scene);
+
+// Whether contact tests go through the broad phase (broad_phase.h): when the
+// scene allows it and has enough robots for sorting to pay.
+bool useBroadPhase(const WorldModel& model, const WorldState& state);
+
+}  // namespace vssim

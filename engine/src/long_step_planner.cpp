@@ -1,0 +1,246 @@
+// The long-step planner of Simulation::advanceTo (world.h): each stretch
+// between voltage changes is cut short only where contacts are possible;
+// bodies that cannot touch anything (free_bodies.h) take the stretch in one
+// exact step while the others take steps of dt.
+#include <algorithm>
+#include <cmath>
+
+#include "vssim/geometry.h"
+#include "vssim/world.h"
+
+namespace vssim {
+
+namespace {
+
+// After a failed try at a long step for the bodies near contacts, this many
+// steps of dt pass before the next try (a try costs about one step),
+// doubling after each failure in a row up to the longest wait.
+constexpr std::int64_t kFirstRetryWait = 2;
+constexpr std::int64_t kLongestRetryWait = 16;
+
+}  // namespace
+
+std::int64_t Simulation::contactFreeSteps(std::int64_t wanted) const {
+    // The largest k <= wanted for which every body is free for k steps
+    // (freedom only shrinks as the horizon grows): a bisection.
+    FreeBodies free;
+    auto allFree = [&](std::int64_t k) {
+        findFreeBodies(model_, state_, static_cast<double>(k) * model_.settings.dt, free);
+        return free.all;
+    };
+    if (wanted <= 0 || !allFree(1)) return 0;
+    if (allFree(wanted)) return wanted;
+    std::int64_t lo = 1, hi = wanted;  // allFree(lo), !allFree(hi)
+    while (hi - lo > 1) {
+        const std::int64_t mid = lo + (hi - lo) / 2;
+        (allFree(mid) ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, double margin) const {
+    // A frozen body i, still at its start p_i0, moves at most travel_i in the
+    // whole stretch. A stepping body j, now at p_j with its current state (a
+    // collision may have sped it up), moves at most its travel bound over
+    // the remaining time. Both discs must stay apart.
+    const std::size_t n = state_.robots.size();
+    auto reach = [this, n](std::size_t b) { return b < n ? boundingRadius(model_.sides[b]) : model_.ball.radius; };
+    for (std::size_t j = 0; j <= n; ++j) {
+        if (start.frozen[j]) continue;
+        const double pjX = j < n ? state_.robots[j].x : state_.ball.x;
+        const double pjY = j < n ? state_.robots[j].y : state_.ball.y;
+        const double speed = j < n ? pointSpeedBound(model_.robots[j], state_.robots[j], state_.voltages[j])
+                                   : std::hypot(state_.ball.vx, state_.ball.vy);
+        const double jTravel = (j < n ? robotTravelForIntegrator(model_, state_, j, remaining)
+                                      : ballTravelForIntegrator(model_, state_, remaining)) +
+                               2.0 * speed * margin;
+        for (std::size_t i = 0; i <= n; ++i) {
+            if (!start.frozen[i]) continue;
+            const double dx = pjX - start.x[i], dy = pjY - start.y[i];
+            const double distance = std::sqrt(dx * dx + dy * dy);
+            if (!(distance - reach(i) - reach(j) > start.travel[i] + jTravel)) return false;
+        }
+    }
+    return true;
+}
+
+void Simulation::frozenSpeeds(const FrozenStart& start, double elapsed) {
+    const std::size_t n = state_.robots.size();
+    frozenSpeed_.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!start.frozen[i]) continue;
+        RobotState now = start.robots[i];
+        const Eigen::Vector2d u = velocityAfter(model_.robots[i], now, state_.voltages[i], elapsed);
+        now.v = u(0);
+        now.omega = u(1);
+        frozenSpeed_[i] = pointSpeedBound(model_.robots[i], now, state_.voltages[i]);
+    }
+}
+
+std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_t remaining) {
+    const std::size_t n = state_.robots.size();
+    std::int64_t steps = 1;
+    while (steps * 2 <= remaining) steps *= 2;
+    for (; steps >= 2; steps /= 4) {
+        const double horizon = static_cast<double>(steps) * model_.settings.dt;
+        // Free among themselves and from the walls (the frozen bodies are
+        // checked properly below: they are not where findFreeBodies sees them)...
+        findFreeBodies(model_, state_, horizon, free_);
+        bool allFree = start.frozen[n] || free_.ball;
+        for (std::size_t i = 0; i < n && allFree; ++i) allFree = start.frozen[i] || free_.robots[i];
+        // ...and out of the frozen bodies' reach.
+        if (allFree && frozenStillSafe(start, horizon)) return steps;
+    }
+    return 0;
+}
+
+AdvanceReport Simulation::advanceTo(std::int64_t target) {
+    AdvanceReport report;
+    const std::int64_t first = state_.step;
+    // The exact integrator plans each stretch between voltage changes; with
+    // long steps it also skips the free bodies' steps.
+    const bool plan = model_.settings.integrator == Integrator::Exact;
+    const bool skip = plan && model_.settings.long_steps;
+    const double dt = model_.settings.dt;
+    const std::size_t n = state_.robots.size();
+    while (state_.step < target) {
+        applyDueCommands();
+        std::int64_t next = target;
+        if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
+        const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
+        if (!plan || forceOrdinaryStep_) {
+            forceOrdinaryStep_ = false;
+            report.contacts += ordinaryStep().contacts;
+            ++report.stepCalls;
+            continue;
+        }
+        const double horizon = static_cast<double>(stretch) * dt;  // s
+        findFreeBodies(model_, state_, horizon, free_);
+        if (free_.all && skip) {  // nothing can touch anything: one step to the next voltage change
+            advanceBodies(horizon, nullptr, true);
+            finishStep(stretch);
+            ++report.longSteps;
+            continue;
+        }
+        const bool someFree = free_.ball || std::any_of(free_.robots.begin(), free_.robots.end(), [](char f) { return f != 0; });
+        if (!someFree) {
+            // Everybody may touch something before the stretch ends, but maybe
+            // not soon: try shorter steps of a power of two times dt (few step
+            // lengths, so their tables stay cached), else one ordinary step.
+            std::int64_t steps = 1;
+            if (skip) {
+                while (steps * 2 < stretch) steps *= 2;
+                for (; steps >= 2; steps /= 4) {
+                    findFreeBodies(model_, state_, static_cast<double>(steps) * dt, free_);
+                    if (free_.all) break;
+                }
+            }
+            if (steps >= 2) {
+                advanceBodies(static_cast<double>(steps) * dt, nullptr, true);
+                finishStep(steps);
+                ++report.longSteps;
+            } else {
+                report.contacts += ordinaryStep().contacts;
+                ++report.stepCalls;
+            }
+            continue;
+        }
+        // Some bodies are free for the whole stretch: they stay where they are
+        // while the others take steps of dt (no contact with them is possible
+        // on the way), then they take the whole stretch in one step. Should a
+        // contact among the others bring one of them near a free body after
+        // all, that step is undone, the free ones catch up to the present, and
+        // the step is taken again with everybody. The sub-steps count the free
+        // bodies at their true current speeds, so every step is the one
+        // step() would take. Without long steps the free bodies are
+        // integrated with the others, step by step, under the same plan.
+        FrozenStart& start = frozenStart_;
+        start.frozen.assign(free_.robots.begin(), free_.robots.end());
+        start.frozen.push_back(free_.ball);
+        start.x.resize(n + 1);
+        start.y.resize(n + 1);
+        start.travel.assign(free_.robotTravel.begin(), free_.robotTravel.end());
+        start.travel.push_back(free_.ballTravel);
+        for (std::size_t i = 0; i < n; ++i) start.x[i] = state_.robots[i].x, start.y[i] = state_.robots[i].y;
+        start.x[n] = state_.ball.x;
+        start.y[n] = state_.ball.y;
+        start.robots = state_.robots;
+        start.ball = state_.ball;
+        frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
+        StepOptions options;
+        options.freeRobots = &frozenRobots_;
+        options.freeBall = start.frozen[n] != 0;
+        options.frozen = skip;
+        options.tables = &tables_;
+        options.broadPhase = &broadPhase_;
+        options.frozenRobotSpeed = &frozenSpeed_;
+        const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s
+        // A frozen body's speed bound only falls along its free trajectory
+        // (each mode's share moves towards its end), so when the bounds at the
+        // start of the stretch cannot ask for sub-steps, none later can, and
+        // the frozen bodies' current speeds are not needed.
+        double smallest = model_.ball.radius, frozenFastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            smallest = std::min(smallest, 0.5 * model_.sides[i]);
+            if (start.frozen[i])
+                frozenFastest = std::max(frozenFastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
+        }
+        const bool frozenMayDecideSubsteps = !(frozenFastest * dt <= kMaxTravelFraction * smallest);
+        frozenSpeed_.assign(n, 0.0);
+        options.frozenBallSpeed = 0.0;
+        steppingRobots_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
+        std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
+        bool stillSafe = true, touching = false;
+        while (done < stretch && stillSafe) {
+            // The stepping bodies, too, may be free for a while (a robot
+            // nearing a wall, not yet at it): a long step of a power of two
+            // times dt for them. Not while touching; after a failed try, wait
+            // (twice as long after each failure in a row).
+            if (skip && !touching && done >= nextTry && stretch - done >= 2) {
+                const std::int64_t steps = steppingFreeSteps(start, stretch - done);
+                if (steps >= 2) {
+                    advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, !options.freeBall);
+                    done += steps;
+                    ++report.longSteps;
+                    wait = kFirstRetryWait;
+                    continue;
+                }
+                nextTry = done + wait;
+                wait = std::min(2 * wait, kLongestRetryWait);
+            }
+            if (skip && frozenMayDecideSubsteps) {
+                const double elapsed = static_cast<double>(done) * dt;  // s into the stretch
+                frozenSpeeds(start, elapsed);
+                options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * elapsed);
+            }
+            beforeStep_ = state_;
+            const StepReport r = stepWorld(model_, state_, dt, options);
+            // A contact may have sent a stepping body towards a free one (the
+            // contact tests skip free bodies): then undo this step, bring the
+            // free bodies to the present and take the step again with
+            // everybody. The margin covers what a body can move within the
+            // step after a contact.
+            if (r.contacts > 0 && !frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+                state_ = beforeStep_;
+                stillSafe = false;
+                forceOrdinaryStep_ = true;
+                ++report.replans;
+                break;
+            }
+            report.contacts += r.contacts;
+            ++report.stepCalls;
+            ++done;
+            touching = r.contacts > 0;
+        }
+        if (skip) {  // the frozen bodies catch up: by the whole stretch, or to the present
+            advanceBodies(static_cast<double>(done) * dt, &frozenRobots_, options.freeBall);
+            ++report.longSteps;
+        }
+        finishStep(done);
+    }
+    report.steps = state_.step - first;
+    return report;
+}
+
+}  // namespace vssim
