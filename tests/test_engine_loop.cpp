@@ -405,9 +405,10 @@ private slots:
         EngineRequest stats = control(EngineRequest::Kind::Stats, 4 * kMs);
         stats.command = "stats";
         loop.handle(stats, 4 * kMs);
-        const QJsonObject latency = sink.replies.back().extra["command_latency_ms"].toObject();
-        QCOMPARE(latency["count"].toInt(), 1);
-        QCOMPARE(latency["median"].toDouble(), 2.0);
+        QVERIFY(sink.replies.back().stats.has_value());
+        const SampleSummary latency = sink.replies.back().stats->commandLatencyMs;
+        QCOMPARE(latency.count, 1);
+        QCOMPARE(latency.median, 2.0);
     }
 };
 

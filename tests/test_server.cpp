@@ -213,7 +213,16 @@ private slots:
         QCOMPARE(placed["ok"].toBool(), true);
         QCOMPARE(control("place_ball", {{"x", -0.6}, {"y", 0.5}, {"vx", 0.25}})["ok"].toBool(), true);
         QCOMPARE(control("step", {{"duration", 0.001}})["ok"].toBool(), true);
-        QCOMPARE(control("stats")["stats"].toObject().contains("command_latency_ms"), true);
+        // Every measurement of protocol.md's list, from each stage it passes.
+        const QJsonObject stats = control("stats")["stats"].toObject();
+        QStringList keys = stats.keys();
+        keys.sort();
+        QCOMPARE(keys, (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
+                                    "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
+                                    "frames_skipped", "lag_resets", "late_commands", "patch_area_percent", "render_ms"}));
+        QCOMPARE(stats["clients"].toInt(), 1);
+        QVERIFY(stats["frame_bytes"].isObject() && stats["encode_ms"].isObject());  // no images subscribed: empty
+        QVERIFY(stats["command_latency_ms"].toObject().contains("p99"));
         const QJsonObject speed = control("speed", {{"speed", 3.0}});
         QCOMPARE(speed["ok"].toBool(), true);
         QCOMPARE(control("resume")["ok"].toBool(), true);
@@ -523,7 +532,11 @@ private slots:
         auto images = join(served.port(), helloJson("observer", "patches", "png"));
         QVERIFY(images);
         QVERIFY(images->nextOf(MessageType::Frame, 2000));
-        QVERIFY(stats(*images)["render_ms"].toObject()["count"].toInt() > 0);
+        const QJsonObject withImages = stats(*images);
+        QVERIFY(withImages["render_ms"].toObject()["count"].toInt() > 0);
+        // The encoder's part, per subscription: this client's "patches/png".
+        QVERIFY(withImages["encode_ms"].toObject()["patches/png"].toObject()["count"].toInt() > 0);
+        QVERIFY(withImages["frame_bytes"].toObject()["patches/png"].toObject()["median"].toDouble() > 0);
         QVERIFY(log.count() >= 2);  // the new client's "connected" and "HELLO" lines
     }
 

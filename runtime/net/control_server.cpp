@@ -9,6 +9,35 @@
 
 namespace vssim {
 
+namespace {
+
+QJsonObject summariesJson(const std::map<QString, SampleSummary>& byName) {
+    QJsonObject json;
+    for (const auto& [name, summary] : byName) json[name] = toJson(summary);
+    return json;
+}
+
+// The REPLY's "stats" object (docs/protocol.md, CONTROL stats).
+QJsonObject statsJson(const StatsReport& s) {
+    return QJsonObject{
+        {"command_latency_ms", toJson(s.commandLatencyMs)},
+        {"command_delay_ms", toJson(s.commandDelayMs)},
+        {"late_commands", static_cast<double>(s.lateCommands)},
+        {"lag_resets", static_cast<double>(s.lagResets)},
+        {"frame_period_ms", toJson(s.framePeriodMs)},
+        {"render_ms", toJson(s.renderMs)},
+        {"patch_area_percent", toJson(s.patchAreaPercent)},
+        {"frames_skipped", static_cast<double>(s.framesSkipped)},
+        {"frames_dropped_unsent", static_cast<double>(s.framesDroppedUnsent)},
+        {"encode_ms", summariesJson(s.encodeMs)},
+        {"frame_bytes", summariesJson(s.frameBytes)},
+        {"clients", s.clients},
+        {"frames_dropped_for_slow_clients", static_cast<double>(s.framesDroppedForSlowClients)},
+    };
+}
+
+}  // namespace
+
 struct ControlServer::Client {
     int id = 0;
     QTcpSocket* socket = nullptr;
@@ -352,7 +381,7 @@ void ControlServer::drainEngine() {
             auto it = clients_.find(r.client);
             if (it == clients_.end()) continue;
             Client& client = *it->second;
-            if (r.command == QLatin1String("stats")) client.statsPending = false;
+            if (r.stats) client.statsPending = false;
             // A frame held back for a slow reader is older than this reply:
             // it goes first (protocol.md: a step's FRAME comes before its REPLY).
             if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) {
@@ -371,13 +400,11 @@ void ControlServer::drainEngine() {
                              {"ok", true},
                              {"time", r.time},
                              {"frame", static_cast<double>(r.frame)}};
-            if (!r.extra.isEmpty()) {
-                QJsonObject extra = r.extra;
-                extra["clients"] = clientCount();
-                std::int64_t dropped = 0;
-                for (const auto& [id, c] : clients_) dropped += c->framesDropped;
-                extra["frames_dropped_for_slow_clients"] = static_cast<double>(dropped);
-                json["stats"] = extra;
+            if (r.stats) {
+                StatsReport stats = *r.stats;
+                stats.clients = clientCount();
+                for (const auto& [id, c] : clients_) stats.framesDroppedForSlowClients += c->framesDropped;
+                json["stats"] = statsJson(stats);
             }
             send(client, protocol::encodeJsonMessage(protocol::MessageType::Reply, json));
         }

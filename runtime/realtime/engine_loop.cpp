@@ -215,22 +215,20 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             reanchor(r.arrivalNs);
             break;
         case Kind::Stats:
-            return replyTo(r, nowNs, {}, {}, statsJson());
+        {
+            StatsReport report;
+            report.commandLatencyMs = stats_.commandLatencyMs.summary();
+            report.commandDelayMs = stats_.commandDelayMs.summary();
+            report.lateCommands = stats_.lateCommands;
+            report.lagResets = stats_.lagResets;
+            return replyTo(r, nowNs, {}, {}, report);
+        }
     }
     replyTo(r, nowNs);
 }
 
-QJsonObject EngineLoop::statsJson() const {
-    return QJsonObject{
-        {"command_latency_ms", toJson(stats_.commandLatencyMs.summary())},
-        {"command_delay_ms", toJson(stats_.commandDelayMs.summary())},
-        {"late_commands", static_cast<double>(stats_.lateCommands)},
-        {"lag_resets", static_cast<double>(stats_.lagResets)},
-    };
-}
-
 void EngineLoop::replyTo(const EngineRequest& r, std::int64_t /*nowNs*/, const QString& error, const QString& message,
-                         const QJsonObject& extra) {
+                         std::optional<StatsReport> stats) {
     if (r.client < 0) return;
     EngineReply reply;
     reply.client = r.client;
@@ -241,7 +239,7 @@ void EngineLoop::replyTo(const EngineRequest& r, std::int64_t /*nowNs*/, const Q
     reply.message = message;
     reply.time = sim_->state().time;
     reply.frame = frame_;
-    reply.extra = extra;
+    reply.stats = std::move(stats);
     sink_.reply(reply);
 }
 

@@ -129,8 +129,7 @@ private:
     // Frame 0 now (emitted), the clock anchored at arrivalNs.
     void restartClock(std::int64_t arrivalNs, std::int64_t nowNs);
     void replyTo(const EngineRequest& request, std::int64_t nowNs, const QString& error = {},
-                 const QString& message = {}, const QJsonObject& extra = {});
-    QJsonObject statsJson() const;
+                 const QString& message = {}, std::optional<StatsReport> stats = std::nullopt);
 };
 
 }  // namespace vssim

@@ -5,15 +5,16 @@
 // paused or lockstep engine).
 #pragma once
 
-#include <QJsonObject>
 #include <QJsonValue>
 #include <QString>
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <cstdint>
 #include <utility>
 #include <vector>
 
+#include "realtime/stats_report.h"
 #include "vssim/ball.h"
 #include "vssim/robot_state.h"
 #include "vssim/scene.h"
@@ -56,7 +57,7 @@ struct EngineReply {
     QString message;  // human-readable, when !ok
     double time = 0.0;          // simulated time after the request, s
     std::int64_t frame = 0;     // camera instant number after the request
-    QJsonObject extra;          // e.g. the `stats` reply's measurements
+    std::optional<StatsReport> stats;  // a `stats` request's measurements, filled in on the way
 };
 
 }  // namespace vssim

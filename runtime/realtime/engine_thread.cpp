@@ -86,8 +86,7 @@ void EngineThread::push(OutboxItem item) {
                 }
             }
         }
-        if (item.reply && item.reply->command == QLatin1String("stats") && item.reply->ok)
-            item.reply->extra["frames_dropped_unsent"] = static_cast<double>(framesDropped_);
+        if (item.reply && item.reply->stats) item.reply->stats->framesDroppedUnsent = framesDropped_;
         wasEmpty = outbox_.empty();
         outbox_.push_back(std::move(item));
     }
@@ -192,11 +191,11 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
 void EngineThread::reply(const EngineReply& reply) {
     EncodeJob job;
     job.reply = reply;
-    if (reply.command == QLatin1String("stats") && reply.ok) {
-        job.reply->extra["frame_period_ms"] = toJson(framePeriodMs_.summary());
-        job.reply->extra["render_ms"] = toJson(renderMs_.summary());
-        job.reply->extra["patch_area_percent"] = toJson(patchPercent_.summary());
-        job.reply->extra["frames_skipped"] = static_cast<double>(framesSkipped_);
+    if (StatsReport* stats = job.reply->stats ? &*job.reply->stats : nullptr) {
+        stats->framePeriodMs = framePeriodMs_.summary();
+        stats->renderMs = renderMs_.summary();
+        stats->patchAreaPercent = patchPercent_.summary();
+        stats->framesSkipped = framesSkipped_;
     }
     // Through the encoder, to stay in order with the frames before it.
     encoder_->submit(std::move(job));

@@ -46,12 +46,9 @@ void FrameEncoder::run() {
         }
         if (job.reply) {
             EngineReply reply = std::move(*job.reply);
-            if (reply.command == QLatin1String("stats") && reply.ok) {
-                QJsonObject encode, bytes;
-                for (const auto& [name, stats] : encodeMs_) encode[name] = toJson(stats.summary());
-                for (const auto& [name, stats] : frameBytes_) bytes[name] = toJson(stats.summary());
-                reply.extra["encode_ms"] = encode;
-                reply.extra["frame_bytes"] = bytes;
+            if (reply.stats) {
+                for (const auto& [name, samples] : encodeMs_) reply.stats->encodeMs[name] = samples.summary();
+                for (const auto& [name, samples] : frameBytes_) reply.stats->frameBytes[name] = samples.summary();
             }
             deliver_(nullptr, std::move(reply));
             continue;
