@@ -5,6 +5,9 @@
 // step, reset; open/save round trip; a screenshot shows the robots where the
 // snapshot says. VSSIM_SCREENSHOT=FILE saves the window's screenshot there.
 #include <QAction>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFile>
 #include <QLabel>
 #include <QSignalSpy>
 #include <QTemporaryDir>
@@ -204,6 +207,45 @@ private slots:
         QCOMPARE(sceneToJson(other.session().scene()), sceneToJson(*saved));
         QCOMPARE(other.session().latest()->scene->robots.size(), std::size_t(6));
         QVERIFY(!other.openScene(dir.filePath("missing.json"), false));
+    }
+
+    void anOpenedSceneSetsUpTheWindowFromTheSnapshots() {
+        // One path for every scene change: the window follows the snapshots'
+        // scene (toolbar settings, camera, undo history, selection).
+        QTemporaryDir dir;
+        Scene next = kickoff();
+        next.robots.resize(2);
+        next.simulation.integrator = Integrator::Euler;
+        next.simulation.dt = 0.0005;
+        const QString path = dir.filePath("two.json");
+        QFile file(path);
+        QVERIFY(file.open(QIODevice::WriteOnly) && file.write(sceneToJson(next)) > 0);
+        file.close();
+
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        auto* integrator = w.findChild<QComboBox*>("toolbar.integrator");
+        auto* dt = w.findChild<QDoubleSpinBox*>("toolbar.dt");
+        QVERIFY(integrator && dt);
+        QCOMPARE(integrator->currentText(), integratorName(kickoff().simulation.integrator));
+        // A move to undo, and robot 4 selected: neither belongs to the next scene.
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        const RobotState r4 = w.session().latest()->robots[4];
+        QTest::mousePress(&view, Qt::LeftButton, {}, at(view, r4.x, r4.y));
+        moveMouse(view, at(view, r4.x + 0.05, r4.y));
+        QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, r4.x + 0.1, r4.y));
+        QCOMPARE(view.selectedRobot(), 4);
+        QVERIFY(action(w, "action.undo")->isEnabled());
+
+        QVERIFY(w.openScene(path, false));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.robots.size() == 2; }));
+        QTRY_COMPARE(integrator->currentText(), QStringLiteral("euler"));
+        QCOMPARE(dt->value(), 0.0005);
+        QVERIFY(!action(w, "action.undo")->isEnabled());
+        QCOMPARE(view.selectedRobot(), -1);
     }
 
     void screenshotShowsRobotsWhereTheSnapshotSays() {

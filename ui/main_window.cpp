@@ -124,8 +124,7 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
         }
     });
 
-    camera_->setScene(session_->scene());
-    showSettings(session_->scene().simulation);
+    refresh();  // the first snapshot: the scene's settings in the toolbar, its robots in the camera view
     if (session_->listening())
         connections_->setListening(tr("%1:%2 for TCP clients (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port()));
     else
@@ -269,11 +268,7 @@ void MainWindow::buildActions() {
         SceneParametersDialog dialog(session_->scene(), this);
         if (dialog.exec() != QDialog::Accepted || sceneToJson(dialog.scene()) == sceneToJson(session_->scene())) return;
         releaseManual();
-        session_->loadScene(dialog.scene());
-        camera_->setScene(session_->scene());
-        plots_->clear();
-        undo_.clear();
-        showSettings(session_->scene().simulation);
+        session_->loadScene(dialog.scene());  // the rest follows in refresh(), from the snapshots
     });
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
@@ -332,6 +327,7 @@ void MainWindow::buildToolBar() {
     integrator_ = new QComboBox(bar);
     integrator_->addItems({"euler", "rk4", "exact"});
     integrator_->setToolTip(tr("Integrator (docs/model.md)"));
+    integrator_->setObjectName("toolbar.integrator");
     bar->addWidget(integrator_);
     dt_ = new QDoubleSpinBox(bar);
     dt_->setDecimals(6);
@@ -339,6 +335,7 @@ void MainWindow::buildToolBar() {
     dt_->setSingleStep(0.0005);
     dt_->setSuffix(" s");
     dt_->setToolTip(tr("Integration step dt"));
+    dt_->setObjectName("toolbar.dt");
     bar->addWidget(dt_);
     collision_ = new QComboBox(bar);
     collision_->addItems({"paper", "impulse"});
@@ -394,12 +391,7 @@ bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
         return false;
     }
     releaseManual();
-    session_->loadScene(*scene);
-    camera_->setScene(*scene);
-    plots_->clear();
-    undo_.clear();
-    field_->setSelectedRobot(-1);
-    showSettings(scene->simulation);
+    session_->loadScene(*scene);  // the rest follows in refresh(), from the snapshots
     scenePath_ = path;
     if (!path.startsWith(":/")) addRecent(QFileInfo(path).absoluteFilePath());
     updateTitle();
@@ -488,9 +480,21 @@ void MainWindow::releaseManual() {
     stickActive_ = false;
 }
 
+void MainWindow::showScene(std::shared_ptr<const Scene> scene) {
+    // Whoever replaced the scene (Open, the example and recent menus, the
+    // parameters dialog), the engine's snapshots are where the window learns it.
+    shownScene_ = std::move(scene);
+    camera_->setScene(*shownScene_);
+    plots_->clear();
+    undo_.clear();  // the old scene's moves
+    if (field_->selectedRobot() >= static_cast<int>(shownScene_->robots.size())) field_->setSelectedRobot(-1);
+    showSettings(shownScene_->simulation);
+}
+
 void MainWindow::refresh() {
     const std::shared_ptr<const Snapshot> snapshot = session_->latest();
     if (!snapshot) return;
+    if (snapshot->scene && snapshot->scene != shownScene_) showScene(snapshot->scene);
     ++tick_;
     // Real-time factor over the last half second or so.
     const qint64 nowMs = wall_.elapsed();

@@ -59,6 +59,8 @@ private:
     void buildDocks();
     void buildToolBar();
     void refresh();
+    // A new scene in the snapshots: camera, plots, undo history, selection, toolbar.
+    void showScene(std::shared_ptr<const Scene> scene);
     void onKey(int key, bool pressed);
     void onStick(double x, double y, bool fromGamepad);
     void sendManual(const Voltages& volts);
@@ -69,6 +71,7 @@ private:
     void updateTitle();
 
     std::unique_ptr<AppSession> session_;
+    std::shared_ptr<const Scene> shownScene_;  // the snapshots' scene the window was last set up for
     QString scenePath_;
     FieldView* field_ = nullptr;
     RobotInspector* inspector_ = nullptr;
