@@ -13,6 +13,7 @@
 #include "net/network_address.h"
 #include "remote_window.h"
 #include "io/scene_io.h"
+#include "wire/protocol.h"
 
 namespace vssim {
 
@@ -38,7 +39,8 @@ int guiCommand(int argc, char** argv) {
                                          "it also serves TCP clients like vssim serve (docs/protocol.md). Guide: docs/app.md.");
         parser.addHelpOption();
         parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
-        const QCommandLineOption port("port", "TCP port for clients (default 10030; 0: any free port).", "N");
+        const QCommandLineOption port(
+            "port", QStringLiteral("TCP port for clients (default %1; 0: any free port).").arg(protocol::kDefaultPort), "N");
         const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
         const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).", "HOST:PORT");
         parser.addOptions({port, listen, connectTo});
@@ -82,7 +84,8 @@ int guiCommand(int argc, char** argv) {
     if (!connectTarget.isEmpty()) {
         const std::optional<HostPort> target = parseHostPort(connectTarget);
         if (!target) {
-            err << "vssim gui: --connect: expected HOST:PORT, e.g. 127.0.0.1:10030, got \"" << connectTarget << "\"\n";
+            err << "vssim gui: --connect: expected HOST:PORT, e.g. 127.0.0.1:" << protocol::kDefaultPort << ", got \""
+                << connectTarget << "\"\n";
             return 2;
         }
         auto* watcher = new RemoteWatcher;

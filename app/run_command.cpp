@@ -100,8 +100,8 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     if (parser.isSet(dt)) {
         o.dt = parseSeconds("dt", parser.value(dt), error);
         if (!o.dt) return std::nullopt;
-        if (*o.dt > 0.1) {
-            *error = QStringLiteral("--dt: must be <= 0.1 s (got %1)").arg(parser.value(dt));
+        if (*o.dt > kMaxSceneTimeStep) {
+            *error = QStringLiteral("--dt: must be <= %1 s (got %2)").arg(kMaxSceneTimeStep).arg(parser.value(dt));
             return std::nullopt;
         }
     }

@@ -9,7 +9,10 @@
 #include <cmath>
 
 #include "camera/camera_colours.h"
+#include "camera/camera_layout.h"
+#include "realtime/engine_request.h"
 #include "vssim/field.h"
+#include "vssim/geometry.h"
 
 namespace vssim {
 
@@ -19,6 +22,11 @@ constexpr double kMargin = 0.08;  // m of view around the field
 constexpr std::size_t kTrailPoints = 240;
 
 QColor qcolor(Bgr c) { return QColor(c.r, c.g, c.b); }
+
+// A patch (camera_layout.h) in the robot's frame, m.
+QRectF patchRect(const PatchRectangle& patch, double side) {
+    return QRectF(patch.xMin * side, patch.yMin * side, (patch.xMax - patch.xMin) * side, (patch.yMax - patch.yMin) * side);
+}
 
 // Index of robot i among the robots of its team (its identity colour).
 int identityIndex(const Scene& scene, int robot) {
@@ -102,7 +110,7 @@ QPointF FieldView::toField(const QPointF& widgetPoint) const { return worldToWid
 void FieldView::paintGL() {
     QPainter p(this);
     p.setRenderHint(QPainter::Antialiasing);
-    p.fillRect(rect(), QColor(70, 70, 70));
+    p.fillRect(rect(), qcolor(kOutsideColour));
     if (!snapshot_ || !snapshot_->scene) return;
     p.setTransform(worldToWidget());
     paintField(p);
@@ -113,11 +121,11 @@ void FieldView::paintField(QPainter& p) const {
     const Field& field = snapshot_->scene->field;
     const QRectF area(-field.length / 2, -field.width / 2, field.length, field.width);
     p.fillRect(area, qcolor(kFloorColour));
-    QPen line(QColor(255, 255, 255), 0.004);
+    QPen line(qcolor(kMarkingColour), 0.004);
     p.setPen(line);
     p.setBrush(Qt::NoBrush);
     p.drawLine(QPointF(0, -field.width / 2), QPointF(0, field.width / 2));
-    p.drawEllipse(QPointF(0, 0), 0.2, 0.2);
+    p.drawEllipse(QPointF(0, 0), kCentreCircleRadius, kCentreCircleRadius);
     p.setPen(QPen(qcolor(kWallColour), 0.012));
     for (const Wall& w : field.walls) p.drawLine(QPointF(w.a.x(), w.a.y()), QPointF(w.b.x(), w.b.y()));
 }
@@ -148,9 +156,9 @@ void FieldView::paintBodies(QPainter& p) const {
         p.setBrush(qcolor(kRobotBodyColour));
         p.drawRect(QRectF(-side / 2, -side / 2, side, side));
         p.setBrush(qcolor(teamColour(scene.robots[i].team)));
-        p.drawRect(QRectF(-0.45 * side, -0.40 * side, 0.40 * side, 0.80 * side));
+        p.drawRect(patchRect(kTeamPatch, side));
         p.setBrush(qcolor(identityColour(identityIndex(scene, static_cast<int>(i)))));
-        p.drawRect(QRectF(0.05 * side, -0.40 * side, 0.40 * side, 0.80 * side));
+        p.drawRect(patchRect(kIdentityPatch, side));
         // Heading mark: a white tick at the front edge.
         p.setPen(QPen(Qt::white, 0.004));
         p.drawLine(QPointF(0.5 * side, 0), QPointF(0.68 * side, 0));
@@ -206,7 +214,7 @@ bool FieldView::ballAt(const QPointF& f) const {
 RobotState FieldView::clampInside(int robot, RobotState pose) const {
     const Scene& scene = *snapshot_->scene;
     const double side = scene.robots[robot].params.side;
-    const double reach = 0.5 * side * (std::abs(std::cos(pose.theta)) + std::abs(std::sin(pose.theta)));
+    const double reach = robotHalfExtent(side, pose.theta);
     pose.x = std::clamp(pose.x, -scene.field.length / 2 + reach, scene.field.length / 2 - reach);
     pose.y = std::clamp(pose.y, -scene.field.width / 2 + reach, scene.field.width / 2 - reach);
     return pose;
@@ -318,7 +326,7 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
             // A robot moves along its heading only: the arrow's projection on it.
             RobotState pose = snapshot_->robots[dragRobot_];
             const QPointF d = f - QPointF(pose.x, pose.y);
-            pose.v = std::clamp(kSpeedPerArrowMetre * (d.x() * std::cos(pose.theta) + d.y() * std::sin(pose.theta)), -10.0, 10.0);
+            pose.v = std::clamp(kSpeedPerArrowMetre * (d.x() * std::cos(pose.theta) + d.y() * std::sin(pose.theta)), -kMaxPlacedRobotSpeed, kMaxPlacedRobotSpeed);
             pose.omega = 0;
             emit robotPlaced(dragRobot_, pose, true);
             break;
@@ -327,7 +335,7 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
             BallState ball = snapshot_->ball;
             QPointF v = kSpeedPerArrowMetre * (f - QPointF(ball.x, ball.y));
             const double speed = std::hypot(v.x(), v.y());
-            if (speed > 20.0) v *= 20.0 / speed;  // the protocol's limit for a placed ball
+            if (speed > kMaxPlacedBallSpeed) v *= kMaxPlacedBallSpeed / speed;
             ball.vx = v.x();
             ball.vy = v.y();
             emit ballPlaced(ball, true);

@@ -35,7 +35,9 @@
 #include "robot_inspector.h"
 #include "io/scene_io.h"
 #include "scene_parameters_dialog.h"
+#include "scene_value_ranges.h"
 #include "status_text.h"
+#include "wire/protocol.h"
 
 namespace vssim {
 
@@ -237,7 +239,7 @@ void MainWindow::buildActions() {
     file->addAction(tr("&Watch a server..."), this, [this] {
         bool ok = false;
         const QString target = QInputDialog::getText(this, tr("Watch a server"), tr("vssim serve at HOST:PORT"),
-                                                     QLineEdit::Normal, QStringLiteral("127.0.0.1:10030"), &ok);
+                                                     QLineEdit::Normal, QStringLiteral("127.0.0.1:%1").arg(protocol::kDefaultPort), &ok);
         if (!ok) return;
         const std::optional<HostPort> address = parseHostPort(target);
         auto* watcher = new RemoteWatcher;
@@ -331,7 +333,8 @@ void MainWindow::buildToolBar() {
     bar->addWidget(integrator_);
     dt_ = new QDoubleSpinBox(bar);
     dt_->setDecimals(6);
-    dt_->setRange(0.000001, 0.1);  // as the scene reader (and the parameters dialog)
+    const SpinInterval dtRange = spinInterval(SceneRange::TimeStep, dt_->decimals(), 0.0);  // as the scene reader
+    dt_->setRange(dtRange.minimum, dtRange.maximum);
     dt_->setSingleStep(0.0005);
     dt_->setSuffix(" s");
     dt_->setToolTip(tr("Integration step dt"));

@@ -2,6 +2,8 @@
 // columns of docs/scenes.md), as the closed intervals a QDoubleSpinBox needs.
 #pragma once
 
+#include "io/scene_io.h"  // kMaxSceneTimeStep
+
 namespace vssim {
 
 // The kinds of range the reader checks on a numeric key.
@@ -11,8 +13,6 @@ enum class SceneRange {
     UnitInterval,  // simulation.restitution: 0 to 1, both included
     TimeStep,      // simulation.dt: > 0 and <= kMaxSceneTimeStep
 };
-
-constexpr double kMaxSceneTimeStep = 0.1;  // s, the reader's limit on simulation.dt
 
 struct SpinInterval {
     double minimum;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "vssim/geometry.h"
+
 namespace vssim {
 
 Field makeRectangularField(double length, double width) {
@@ -25,8 +27,7 @@ static bool centreWithin(const Field& field, double halfX, double halfY, double 
 }
 
 bool robotInsideField(const Field& field, double side, double x, double y, double theta) {
-    // A square at heading theta reaches (s/2)(|cos| + |sin|) along x and y.
-    const double reach = 0.5 * side * (std::abs(std::cos(theta)) + std::abs(std::sin(theta)));
+    const double reach = robotHalfExtent(side, theta);
     return centreWithin(field, reach, reach, x, y);
 }
 

@@ -164,7 +164,8 @@ bool SceneReader::simulation(const QJsonObject& root, Scene& scene) {
         !choice(o, path, "collision_model", kCollisionModels, &s.collision_model) ||
         !number(o, path, "restitution", Range::UnitInterval, &s.restitution))
         return false;
-    if (s.dt > 0.1) return fail(join(path, "dt"), QStringLiteral("must be <= 0.1 s (got %1)").arg(s.dt));
+    if (s.dt > kMaxSceneTimeStep)
+        return fail(join(path, "dt"), QStringLiteral("must be <= %1 s (got %2)").arg(kMaxSceneTimeStep).arg(s.dt));
     return true;
 }
 

@@ -11,6 +11,9 @@
 
 namespace vssim {
 
+// The longest integration step a scene (simulation.dt) or `--dt` may ask for, s.
+constexpr double kMaxSceneTimeStep = 0.1;
+
 // Parses a scene. On failure returns nullopt and sets *error to a message
 // that names where, e.g. "robots[2].params.right.resistance: expected a number".
 std::optional<Scene> parseScene(const QByteArray& json, QString* error);

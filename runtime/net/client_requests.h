@@ -38,13 +38,6 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error);
 std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Voltages>>& entries, const Scene& scene,
                                           ClientRole role);
 
-// Speeds a placed body may start with: several times what the motors reach
-// (a default robot's top speed is about 1.6 m/s), and no more, since a body
-// far faster would need millions of sub-steps per step.
-constexpr double kMaxPlacedRobotSpeed = 10.0;  // m/s
-constexpr double kMaxPlacedYawRate = 100.0;    // rad/s
-constexpr double kMaxPlacedBallSpeed = 20.0;   // m/s
-
 // A CONTROL message, as an engine request (arrival time, client and id are
 // the caller's to fill in).
 std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& scene, RequestError* error);

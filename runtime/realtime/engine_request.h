@@ -21,6 +21,14 @@
 
 namespace vssim {
 
+// Speeds a placed body may start with (PlaceRobot, PlaceBall, from a client
+// or a person): several times what the motors reach (a default robot's top
+// speed is about 1.6 m/s), and no more, since a body far faster would need
+// millions of sub-steps per step.
+constexpr double kMaxPlacedRobotSpeed = 10.0;  // m/s
+constexpr double kMaxPlacedYawRate = 100.0;    // rad/s
+constexpr double kMaxPlacedBallSpeed = 20.0;   // m/s
+
 struct EngineRequest {
     enum class Kind {
         Voltages,       // from a TCP client (`client`); ignored for robots under manual control

@@ -14,6 +14,12 @@ namespace vssim {
 // heading: half its diagonal, s / sqrt2, m (model.md §5).
 inline double boundingRadius(double side) { return side / std::sqrt(2.0); }
 
+// Half the side of the axis-aligned box around a robot of side `side` at
+// heading theta: (s/2)(|cos theta| + |sin theta|), m.
+inline double robotHalfExtent(double side, double theta) {
+    return 0.5 * side * (std::abs(std::cos(theta)) + std::abs(std::sin(theta)));
+}
+
 // Vertex j = 0..3 at (s/sqrt2)(cos, sin)(theta + 45deg + 90deg j) from the centre.
 std::array<Eigen::Vector2d, 4> robotVertices(const RobotState& pose, double side);
 
