@@ -116,6 +116,7 @@ private slots:
     void controlErrors();
     void controlNonFiniteNumbers();
     void reviewFindings();
+    void messagesCarryNoControlCharacters();
     void portsAndAddresses();
 };
 
@@ -703,6 +704,30 @@ void TestProtocol::reviewFindings() {
                              protocol::encodeVoltages(std::vector<std::pair<int, Voltages>>(256, {0, Voltages{}})));
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, protocol::encodeVoltages({{256, Voltages{}}}));
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, protocol::encodeVoltages({}));
+}
+
+// A client's words reach log lines through error messages: a command name or
+// key with a newline or ESC must not forge a line or a terminal sequence.
+void TestProtocol::messagesCarryNoControlCharacters() {
+    const Scene scene = fourRobotScene();
+    auto clean = [](const QString& message) {
+        for (QChar c : message)
+            if (!c.isPrint()) return false;
+        return true;
+    };
+    RequestError error;
+    QVERIFY(!parseControl(QJsonObject{{"command", "pause\nvssim: server stopped\x1b[2J"}}, scene, &error));
+    QCOMPARE(error.code, QString("unknown_command"));
+    QVERIFY2(clean(error.message) && error.message.contains("pause?vssim: server stopped?[2J"), qPrintable(error.message));
+    QVERIFY(!parseControl(QJsonObject{{"command", "pause"}, {"x\ny", 1}}, scene, &error));
+    QVERIFY2(clean(error.message) && error.message.contains("\"x?y\""), qPrintable(error.message));
+    QVERIFY(!parseControl(QJsonObject{{"command", QString(500, 'a')}}, scene, &error));
+    QVERIFY2(error.message.size() < 200 && error.message.contains(QString(40, 'a') + "..."), qPrintable(error.message));
+    QVERIFY(!parseHello(QJsonObject{{"protocol", 1}, {"role", "yellow\r\n"}}, &error));
+    QVERIFY2(clean(error.message) && error.message.contains("\"yellow??\""), qPrintable(error.message));
+    // The value as given, not rounded to six digits.
+    QVERIFY(!parseControl(QJsonObject{{"command", "step"}, {"duration", 3600.0001}}, scene, &error));
+    QVERIFY2(error.message.contains("3600.0001 s"), qPrintable(error.message));
 }
 
 void TestProtocol::portsAndAddresses() {

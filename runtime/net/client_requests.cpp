@@ -1,9 +1,11 @@
 #include "net/client_requests.h"
 
 #include <QJsonArray>
+#include <QLocale>
+#include <cmath>
+#include <utility>
 
 #include "realtime/engine_loop.h"
-#include <cmath>
 
 namespace vssim {
 
@@ -16,122 +18,159 @@ QString roleName(ClientRole role) {
     return {};
 }
 
+QString printableText(const QString& text, int maxCharacters) {
+    QString out;
+    int n = 0;
+    for (uint c : text.toUcs4()) {
+        if (n++ == maxCharacters) return out + QStringLiteral("...");
+        const char32_t cp = static_cast<char32_t>(c);
+        out += QChar::isPrint(cp) ? QString::fromUcs4(&cp, 1) : QStringLiteral("?");
+    }
+    return out;
+}
+
 namespace {
 
-bool fail(RequestError* error, const QString& code, const QString& message) {
-    *error = {code, message};
-    return false;
-}
+// Reads one client message's JSON object, in the scene reader's style
+// (io/scene_io.cpp): each helper checks one key, returns false on failure,
+// and the first failure is kept as the error, with its code and a message
+// that starts with what was being read ("HELLO", "CONTROL step").
+class RequestReader {
+public:
+    RequestReader(const QJsonObject& json, QString what) : json_(json), what_(std::move(what)) {}
 
-// Only the keys listed may appear: a typo is an error, not silently ignored.
-bool onlyKeys(const QJsonObject& json, const QString& what, const QStringList& allowed, RequestError* error) {
-    for (auto it = json.begin(); it != json.end(); ++it)
-        if (!allowed.contains(it.key()))
-            return fail(error, "malformed",
-                        QStringLiteral("%1: unknown key \"%2\" (expected one of: %3)").arg(what, it.key(), allowed.join(", ")));
-    return true;
-}
+    const RequestError& error() const { return error_; }
 
-// A finite number at `key`; `required` or else `fallback`.
-bool number(const QJsonObject& json, const QString& what, const QString& key, bool required, double fallback,
-            double* out, RequestError* error) {
-    const QJsonValue v = json.value(key);
-    if (v.isUndefined()) {
-        if (required) return fail(error, "malformed", QStringLiteral("%1: missing \"%2\"").arg(what, key));
-        *out = fallback;
+    bool fail(const QString& code, const QString& message) {
+        if (error_.code.isEmpty()) error_ = {code, what_ + QStringLiteral(": ") + message};
+        return false;
+    }
+    bool malformed(const QString& message) { return fail(QStringLiteral("malformed"), message); }
+
+    // Only the keys listed may appear: a typo is an error, not silently ignored.
+    bool keys(const QStringList& allowed) {
+        for (auto it = json_.begin(); it != json_.end(); ++it)
+            if (!allowed.contains(it.key()))
+                return malformed(QStringLiteral("unknown key \"%1\" (expected one of: %2)")
+                                     .arg(printableText(it.key(), 40), allowed.join(", ")));
         return true;
     }
-    if (!v.isDouble() || !std::isfinite(v.toDouble()))
-        return fail(error, "malformed", QStringLiteral("%1: \"%2\" must be a finite number").arg(what, key));
-    *out = v.toDouble();
-    return true;
-}
 
-bool robotIndex(const QJsonObject& json, const QString& what, const Scene& scene, int* out, RequestError* error) {
-    double index = 0;
-    if (!number(json, what, "robot", true, 0, &index, error)) return false;
-    if (index != std::floor(index) || index < 0 || index >= static_cast<double>(scene.robots.size()))
-        return fail(error, "bad_robot",
-                    QStringLiteral("%1: no robot %2 (the scene has robots 0 to %3)")
-                        .arg(what).arg(index).arg(static_cast<int>(scene.robots.size()) - 1));
-    *out = static_cast<int>(index);
-    return true;
-}
+    // A finite number at `key`; when absent, `fallback`, or an error if there is none.
+    bool number(const QString& key, double* out, std::optional<double> fallback = std::nullopt) {
+        const QJsonValue v = json_.value(key);
+        if (v.isUndefined()) {
+            if (!fallback) return malformed(QStringLiteral("missing \"%1\"").arg(key));
+            *out = *fallback;
+            return true;
+        }
+        if (!v.isDouble() || !std::isfinite(v.toDouble()))
+            return malformed(QStringLiteral("\"%1\" must be a finite number").arg(key));
+        *out = v.toDouble();
+        return true;
+    }
+
+    // A whole number from `min` to `max` at `key`, or `fallback` when absent.
+    bool integer(const QString& key, int min, int max, int fallback, int* out) {
+        double value = 0;
+        if (!number(key, &value, fallback)) return false;
+        if (value != std::floor(value) || value < min || value > max)
+            return malformed(QStringLiteral("\"%1\" is %2; expected a whole number from %3 to %4").arg(key).arg(value).arg(min).arg(max));
+        *out = static_cast<int>(value);
+        return true;
+    }
+
+    bool boolean(const QString& key, bool fallback, bool* out) {
+        const QJsonValue v = json_.value(key);
+        if (!v.isUndefined() && !v.isBool()) return malformed(QStringLiteral("\"%1\" must be true or false").arg(key));
+        *out = v.toBool(fallback);
+        return true;
+    }
+
+    // One of the names in `table` at `key` (exactly, case included), or
+    // `fallback` when absent and there is one.
+    template <typename T, std::size_t N>
+    bool choice(const QString& key, const std::pair<const char*, T> (&table)[N], std::optional<T> fallback, T* out) {
+        QStringList names;
+        for (const auto& [name, value] : table) names << QStringLiteral("\"%1\"").arg(name);
+        const QString expected = names.size() > 1 ? names.mid(0, names.size() - 1).join(", ") + " or " + names.last()
+                                                  : names.join("");
+        const QJsonValue v = json_.value(key);
+        if (v.isUndefined() && fallback) {
+            *out = *fallback;
+            return true;
+        }
+        if (!v.isString()) return malformed(QStringLiteral("\"%1\" must be %2").arg(key, expected));
+        for (const auto& [name, value] : table) {
+            if (v.toString() == QLatin1String(name)) {
+                *out = value;
+                return true;
+            }
+        }
+        return malformed(QStringLiteral("\"%1\" is \"%2\"; expected %3").arg(key, printableText(v.toString(), 40), expected));
+    }
+
+    bool robotIndex(const Scene& scene, int* out) {
+        double index = 0;
+        if (!number(QStringLiteral("robot"), &index)) return false;
+        if (index != std::floor(index) || index < 0 || index >= static_cast<double>(scene.robots.size()))
+            return fail(QStringLiteral("bad_robot"), QStringLiteral("no robot %1 (the scene has robots 0 to %2)")
+                                                         .arg(index).arg(static_cast<int>(scene.robots.size()) - 1));
+        *out = static_cast<int>(index);
+        return true;
+    }
+
+private:
+    const QJsonObject& json_;
+    QString what_;
+    RequestError error_;
+};
+
+constexpr std::pair<const char*, ClientRole> kRoles[] = {
+    {"yellow", ClientRole::Yellow}, {"blue", ClientRole::Blue}, {"observer", ClientRole::Observer}};
+enum class ImagesWanted { Patches, Full, None };
+constexpr std::pair<const char*, ImagesWanted> kImages[] = {
+    {"patches", ImagesWanted::Patches}, {"full", ImagesWanted::Full}, {"none", ImagesWanted::None}};
+constexpr std::pair<const char*, ImageEncoding> kEncodings[] = {
+    {"png", ImageEncoding::Png}, {"raw", ImageEncoding::Raw}, {"jpeg", ImageEncoding::Jpeg}};
 
 }  // namespace
 
 std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
-    const QString what = QStringLiteral("HELLO");
+    RequestReader in(json, QStringLiteral("HELLO"));
+    auto failed = [&] {
+        *error = in.error();
+        return std::nullopt;
+    };
     const QJsonValue version = json.value("protocol");
     if (!version.isDouble()) {
-        fail(error, "malformed", "HELLO: \"protocol\" (a number, 1) is required");
-        return std::nullopt;
+        in.malformed("\"protocol\" (a number, 1) is required");
+        return failed();
     }
     if (version.toDouble() != 1.0) {
-        fail(error, "unsupported_protocol",
-             QStringLiteral("HELLO: protocol %1 is not supported (this server speaks 1)").arg(version.toDouble()));
-        return std::nullopt;
+        in.fail("unsupported_protocol",
+                       QStringLiteral("protocol %1 is not supported (this server speaks 1)").arg(version.toDouble()));
+        return failed();
     }
     // Keys are checked after the version: a later version's HELLO may have new ones.
-    if (!onlyKeys(json, what, {"protocol", "role", "name", "images", "encoding", "jpeg_quality", "state"}, error))
-        return std::nullopt;
     Hello hello;
-    const QString role = json.value("role").toString();
-    if (role == "yellow") hello.role = ClientRole::Yellow;
-    else if (role == "blue") hello.role = ClientRole::Blue;
-    else if (role == "observer") hello.role = ClientRole::Observer;
-    else {
-        fail(error, "malformed", "HELLO: \"role\" must be \"yellow\", \"blue\" or \"observer\"");
-        return std::nullopt;
-    }
-    const QJsonValue name = json.value("name");
-    const QList<uint> codePoints = name.toString().toUcs4();
-    if (!name.isUndefined() && (!name.isString() || codePoints.size() > 64)) {
-        fail(error, "malformed", "HELLO: \"name\" must be a string of at most 64 characters");
-        return std::nullopt;
-    }
-    // Printable only: the name goes into log lines.
-    for (uint c : codePoints) {
-        const char32_t cp = static_cast<char32_t>(c);
-        hello.name += QChar::isPrint(cp) ? QString::fromUcs4(&cp, 1) : QStringLiteral("?");
-    }
-
-    const QString images = json.value("images").toString("patches");
-    if (!json.value("images").isUndefined() && !json.value("images").isString()) {
-        fail(error, "malformed", "HELLO: \"images\" must be \"patches\", \"full\" or \"none\"");
-        return std::nullopt;
-    }
+    ImagesWanted images = ImagesWanted::Patches;
     ImageSubscription sub;
-    if (images == "patches") sub.kind = protocol::FrameKind::Patches;
-    else if (images == "full") sub.kind = protocol::FrameKind::Full;
-    else if (images != "none") {
-        fail(error, "malformed",
-             QStringLiteral("HELLO: \"images\" is \"%1\"; expected \"patches\", \"full\" or \"none\"").arg(images));
-        return std::nullopt;
+    if (!in.keys({"protocol", "role", "name", "images", "encoding", "jpeg_quality", "state"}) ||
+        !in.choice("role", kRoles, {}, &hello.role))
+        return failed();
+    const QJsonValue name = json.value("name");
+    if (!name.isUndefined() && (!name.isString() || name.toString().toUcs4().size() > 64)) {
+        in.malformed("\"name\" must be a string of at most 64 characters");
+        return failed();
     }
-    const QJsonValue encoding = json.value("encoding");
-    const std::optional<ImageEncoding> enc =
-        encoding.isUndefined() ? std::optional(ImageEncoding::Png)
-                               : (encoding.isString() ? encodingFromName(encoding.toString().toStdString()) : std::nullopt);
-    if (!enc) {
-        fail(error, "malformed", "HELLO: \"encoding\" must be \"png\", \"raw\" or \"jpeg\"");
-        return std::nullopt;
-    }
-    sub.encoding = *enc;
-    double quality = 90;
-    if (!number(json, what, "jpeg_quality", false, 90, &quality, error)) return std::nullopt;
-    if (quality != std::floor(quality) || quality < 1 || quality > 100) {
-        fail(error, "malformed", QStringLiteral("HELLO: \"jpeg_quality\" is %1; expected a whole number from 1 to 100").arg(quality));
-        return std::nullopt;
-    }
-    sub.jpegQuality = static_cast<int>(quality);
-    if (images != "none") hello.images = sub;
-    const QJsonValue state = json.value("state");
-    if (!state.isUndefined() && !state.isBool()) {
-        fail(error, "malformed", "HELLO: \"state\" must be true or false");
-        return std::nullopt;
-    }
-    hello.state = state.toBool(false);
+    hello.name = printableText(name.toString(), 64);  // printable only: the name goes into log lines
+    if (!in.choice("images", kImages, std::optional(ImagesWanted::Patches), &images) ||
+        !in.choice("encoding", kEncodings, std::optional(ImageEncoding::Png), &sub.encoding) ||
+        !in.integer("jpeg_quality", 1, 100, 90, &sub.jpegQuality) || !in.boolean("state", false, &hello.state))
+        return failed();
+    sub.kind = images == ImagesWanted::Full ? protocol::FrameKind::Full : protocol::FrameKind::Patches;
+    if (images != ImagesWanted::None) hello.images = sub;
     return hello;
 }
 
@@ -162,76 +201,80 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
     using Kind = EngineRequest::Kind;
     const QJsonValue commandValue = json.value("command");
     if (!commandValue.isString()) {
-        fail(error, "malformed", "CONTROL: \"command\" (a string) is required");
+        *error = {"malformed", "CONTROL: \"command\" (a string) is required"};
         return std::nullopt;
     }
     EngineRequest r;
     r.command = commandValue.toString();
-    const QString what = QStringLiteral("CONTROL %1").arg(r.command);
+    // The name goes into messages and log lines: printable characters only.
+    RequestReader in(json, QStringLiteral("CONTROL %1").arg(printableText(r.command, 40)));
+    auto failed = [&] {
+        *error = in.error();
+        return std::nullopt;
+    };
     const QStringList base{"command", "id"};
-    auto keys = [&](QStringList more) { return onlyKeys(json, what, base + more, error); };
     const Field& field = scene.field;
     if (r.command == "pause" || r.command == "resume" || r.command == "reset" || r.command == "stats") {
-        if (!keys({})) return std::nullopt;
+        if (!in.keys(base)) return failed();
         r.kind = r.command == "pause" ? Kind::Pause : r.command == "resume" ? Kind::Resume
                : r.command == "reset" ? Kind::Reset : Kind::Stats;
     } else if (r.command == "step") {
         r.kind = Kind::Step;
-        if (!keys({"duration"}) || !number(json, what, "duration", true, 0, &r.duration, error)) return std::nullopt;
-        if (!(r.duration > 0 && r.duration <= 3600)) {
-            fail(error, "malformed", QStringLiteral("%1: \"duration\" is %2 s; expected more than 0 and at most 3600 s").arg(what).arg(r.duration));
-            return std::nullopt;
+        if (!in.keys(base + QStringList{"duration"}) || !in.number("duration", &r.duration)) return failed();
+        if (!(r.duration > 0 && r.duration <= kMaxStepDuration)) {
+            in.malformed(QStringLiteral("\"duration\" is %1 s; expected more than 0 and at most %2 s")
+                                    .arg(QString::number(r.duration, 'g', QLocale::FloatingPointShortest)).arg(kMaxStepDuration));
+            return failed();
         }
     } else if (r.command == "place_robot") {
         r.kind = Kind::PlaceRobot;
         RobotState& p = r.robotPose;
-        if (!keys({"robot", "x", "y", "theta", "v", "omega"}) || !robotIndex(json, what, scene, &r.robot, error) ||
-            !number(json, what, "x", true, 0, &p.x, error) || !number(json, what, "y", true, 0, &p.y, error) ||
-            !number(json, what, "theta", true, 0, &p.theta, error) || !number(json, what, "v", false, 0, &p.v, error) ||
-            !number(json, what, "omega", false, 0, &p.omega, error))
-            return std::nullopt;
+        if (!in.keys(base + QStringList{"robot", "x", "y", "theta", "v", "omega"}) || !in.robotIndex(scene, &r.robot) ||
+            !in.number("x", &p.x) || !in.number("y", &p.y) || !in.number("theta", &p.theta) ||
+            !in.number("v", &p.v, 0.0) || !in.number("omega", &p.omega, 0.0))
+            return failed();
         if (std::abs(p.v) > kMaxPlacedRobotSpeed || std::abs(p.omega) > kMaxPlacedYawRate) {
-            fail(error, "malformed", QStringLiteral("%1: |v| must be at most %2 m/s and |omega| at most %3 rad/s")
-                                         .arg(what).arg(kMaxPlacedRobotSpeed).arg(kMaxPlacedYawRate));
-            return std::nullopt;
+            in.malformed(QStringLiteral("|v| must be at most %1 m/s and |omega| at most %2 rad/s")
+                                    .arg(kMaxPlacedRobotSpeed).arg(kMaxPlacedYawRate));
+            return failed();
         }
         if (!robotInsideField(field, scene.robots[r.robot].params.side, p.x, p.y, p.theta)) {
-            fail(error, "outside_field", QStringLiteral("%1: robot %2 at (%3, %4) m, heading %5 rad, would not lie inside the %6 x %7 m field")
-                                             .arg(what).arg(r.robot).arg(p.x).arg(p.y).arg(p.theta).arg(field.length).arg(field.width));
-            return std::nullopt;
+            in.fail("outside_field", QStringLiteral("robot %1 at (%2, %3) m, heading %4 rad, would not lie inside the %5 x %6 m field")
+                                                .arg(r.robot).arg(p.x).arg(p.y).arg(p.theta).arg(field.length).arg(field.width));
+            return failed();
         }
     } else if (r.command == "place_ball") {
         r.kind = Kind::PlaceBall;
         BallState& b = r.ball;
-        if (!keys({"x", "y", "vx", "vy"}) || !number(json, what, "x", true, 0, &b.x, error) ||
-            !number(json, what, "y", true, 0, &b.y, error) || !number(json, what, "vx", false, 0, &b.vx, error) ||
-            !number(json, what, "vy", false, 0, &b.vy, error))
-            return std::nullopt;
+        if (!in.keys(base + QStringList{"x", "y", "vx", "vy"}) || !in.number("x", &b.x) || !in.number("y", &b.y) ||
+            !in.number("vx", &b.vx, 0.0) || !in.number("vy", &b.vy, 0.0))
+            return failed();
         if (std::hypot(b.vx, b.vy) > kMaxPlacedBallSpeed) {
-            fail(error, "malformed", QStringLiteral("%1: the ball's speed must be at most %2 m/s").arg(what).arg(kMaxPlacedBallSpeed));
-            return std::nullopt;
+            in.malformed(QStringLiteral("the ball's speed must be at most %1 m/s").arg(kMaxPlacedBallSpeed));
+            return failed();
         }
         if (!discInsideField(field, scene.ball_params.radius, b.x, b.y)) {
-            fail(error, "outside_field", QStringLiteral("%1: the ball at (%2, %3) m would not lie inside the %4 x %5 m field")
-                                             .arg(what).arg(b.x).arg(b.y).arg(field.length).arg(field.width));
-            return std::nullopt;
+            in.fail("outside_field", QStringLiteral("the ball at (%1, %2) m would not lie inside the %3 x %4 m field")
+                                                .arg(b.x).arg(b.y).arg(field.length).arg(field.width));
+            return failed();
         }
     } else if (r.command == "speed") {
         r.kind = Kind::Speed;
-        if (!keys({"speed"})) return std::nullopt;
+        if (!in.keys(base + QStringList{"speed"})) return failed();
         const QJsonValue speed = json.value("speed");
         if (speed.isString() && speed.toString() == "max") {
             r.speed = 0.0;
         } else if (speed.isDouble() && speed.toDouble() >= kMinSpeed && speed.toDouble() <= kMaxSpeed) {
             r.speed = speed.toDouble();
         } else {
-            fail(error, "malformed", QStringLiteral("%1: \"speed\" must be a number from %2 to %3 (times real time) or \"max\"").arg(what).arg(kMinSpeed).arg(kMaxSpeed));
-            return std::nullopt;
+            in.malformed(QStringLiteral("\"speed\" must be a number from %1 to %2 (times real time) or \"max\"")
+                                    .arg(kMinSpeed).arg(kMaxSpeed));
+            return failed();
         }
     } else {
-        fail(error, "unknown_command",
-             QStringLiteral("CONTROL: unknown command \"%1\" (expected pause, resume, step, reset, place_robot, place_ball, speed or stats)")
-                 .arg(r.command.left(40)));
+        *error = {"unknown_command",
+                  QStringLiteral("CONTROL: unknown command \"%1\" (expected pause, resume, step, reset, place_robot, place_ball, speed or stats)")
+                      .arg(printableText(r.command, 40))};
         return std::nullopt;
     }
     return r;

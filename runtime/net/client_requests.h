@@ -16,6 +16,11 @@
 
 namespace vssim {
 
+// `text` with every character that is not printable (newlines, ESC, other
+// control characters) as "?", and cut to `maxCharacters` characters
+// (code points) with "..." after: safe for log lines and error messages.
+QString printableText(const QString& text, int maxCharacters);
+
 struct RequestError {
     QString code;     // e.g. "malformed", "bad_robot"
     QString message;  // human-readable: what and where

@@ -28,6 +28,8 @@ namespace vssim {
 constexpr double kMaxPlacedRobotSpeed = 10.0;  // m/s
 constexpr double kMaxPlacedYawRate = 100.0;    // rad/s
 constexpr double kMaxPlacedBallSpeed = 20.0;   // m/s
+// The longest `step` a client may ask for at once, s of simulated time.
+constexpr double kMaxStepDuration = 3600.0;
 
 struct EngineRequest {
     enum class Kind {
