@@ -28,7 +28,7 @@ inline double relativeError(double got, double want) {
 }
 
 // FNV-1a over the bytes of every double of a world state: equal hashes mean
-// bit-identical states (app/state_hash.h, shared with `vssim stress`).
+// bit-identical states (vssim/state_hash.h, shared with `vssim stress`).
 using vssim::hashState;
 
 inline RobotSpec robotAt(const char* name, double x, double y, double theta, double v = 0.0) {

@@ -189,7 +189,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             break;
         case Kind::Step: {
             if (!paused_ && mode_ != RunMode::Lockstep)
-                return replyTo(r, nowNs, "not_paused", "step works only while paused or in lockstep mode");
+                return replyTo(r, "not_paused", "step works only while paused or in lockstep mode");
             const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, sim_->dt());
             sim_->advanceTo(sim_->state().step + steps);
             ++frame_;
@@ -209,7 +209,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             break;
         case Kind::Speed:
             if (mode_ == RunMode::Lockstep)
-                return replyTo(r, nowNs, "lockstep", "the speed cannot change in lockstep mode");
+                return replyTo(r, "lockstep", "the speed cannot change in lockstep mode");
             mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;
             if (r.speed > 0) speed_ = r.speed;
             reanchor(r.arrivalNs);
@@ -221,13 +221,13 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             report.commandDelayMs = stats_.commandDelayMs.summary();
             report.lateCommands = stats_.lateCommands;
             report.lagResets = stats_.lagResets;
-            return replyTo(r, nowNs, {}, {}, report);
+            return replyTo(r, {}, {}, report);
         }
     }
-    replyTo(r, nowNs);
+    replyTo(r);
 }
 
-void EngineLoop::replyTo(const EngineRequest& r, std::int64_t /*nowNs*/, const QString& error, const QString& message,
+void EngineLoop::replyTo(const EngineRequest& r, const QString& error, const QString& message,
                          std::optional<StatsReport> stats) {
     if (r.client < 0) return;
     EngineReply reply;

@@ -128,7 +128,7 @@ private:
     void restart(std::int64_t arrivalNs, std::int64_t nowNs);
     // Frame 0 now (emitted), the clock anchored at arrivalNs.
     void restartClock(std::int64_t arrivalNs, std::int64_t nowNs);
-    void replyTo(const EngineRequest& request, std::int64_t nowNs, const QString& error = {},
+    void replyTo(const EngineRequest& request, const QString& error = {},
                  const QString& message = {}, std::optional<StatsReport> stats = std::nullopt);
 };
 
