@@ -72,6 +72,13 @@ for f in \
     usr/share/vssim/examples/cpp/vssim_client.cpp \
     usr/share/vssim/docs/protocol.md \
     usr/share/doc/vssim/README.md \
+    usr/share/doc/vssim/copyright \
+    usr/share/man/man1/vssim.1.gz \
+    usr/share/man/man1/vssim-gui.1.gz \
+    usr/share/man/man1/vssim-run.1.gz \
+    usr/share/man/man1/vssim-serve.1.gz \
+    usr/share/man/man1/vssim-stress.1.gz \
+    usr/share/man/man1/vssim-demo.1.gz \
     usr/share/doc/vssim/docs/protocol.md \
     usr/share/doc/vssim/docs/scenes.md \
     usr/share/doc/vssim/docs/model.md \
@@ -95,6 +102,33 @@ else
     step "desktop-file-validate not installed (desktop-file-utils): vssim.desktop not validated"
 fi
 step "files: OK ($nscenes scenes)"
+
+# Licence: Debian's machine-readable copyright file, MIT (Expat).
+grep -q '^Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/$' "$root/usr/share/doc/vssim/copyright" \
+    || fail "copyright: no DEP-5 Format line"
+grep -q '^License: Expat$' "$root/usr/share/doc/vssim/copyright" || fail "copyright: no 'License: Expat'"
+grep -q '^ Permission is hereby granted, free of charge' "$root/usr/share/doc/vssim/copyright" \
+    || fail "copyright: the licence text is missing"
+
+# Man pages: one per command, from its --help, and each renders without warnings.
+for page in vssim vssim-gui vssim-run vssim-serve vssim-stress vssim-demo; do
+    file="$root/usr/share/man/man1/$page.1.gz"
+    title=$(echo "$page" | tr a-z A-Z)
+    gzip -dc "$file" | grep -q "^\.TH $title 1 " || fail "$page.1.gz: no .TH $title 1 line"
+    if command -v groff >/dev/null 2>&1; then
+        text=$(gzip -dc "$file" | groff -man -Tutf8 -ww -P-c -P-b -P-u 2>"$tmp/groff.err") || fail "$page.1.gz: groff failed"
+        [ ! -s "$tmp/groff.err" ] || { cat "$tmp/groff.err" >&2; fail "$page.1.gz: groff warnings (above)"; }
+        echo "$text" | grep -q "SYNOPSIS" || fail "$page.1.gz: no SYNOPSIS when rendered"
+    fi
+done
+gzip -dc "$root/usr/share/man/man1/vssim-run.1.gz" | grep -q -- '\\-\\-duration' || fail "vssim-run.1.gz: --duration is not documented"
+step "copyright and man pages: OK"
+
+# The installed documentation speaks of the installed program, not of a build tree.
+if grep -rn 'build/app/vssim\|build/examples/cpp' "$root/usr/share/doc/vssim" "$root/usr/share/vssim/examples/README.md"; then
+    fail "the installed docs (lines above) name build-tree paths"
+fi
+grep -q 'vssim run robot_hits_ball' "$root/usr/share/doc/vssim/README.md" || fail "installed README: no 'vssim run robot_hits_ball' example"
 
 # 4. Run the installed program, with nothing from the build tree.
 out=$(env -u LD_LIBRARY_PATH "$root/usr/bin/vssim" --version 2>&1) || fail "vssim --version failed: $out"

@@ -94,6 +94,8 @@ private slots:
         QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == dropped.x && s.robots[0].y == dropped.y; }));
         action(w, "action.undo")->trigger();
         QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == start.x; }));
+        // The view draws (and picks robots from) the snapshot of its last refresh: wait for it too.
+        QTRY_VERIFY(view.snapshot() && view.snapshot()->robots[0].x == start.x);
         // The wheel turns the robot under the cursor by 15 degrees a notch.
         const QPointF p(at(view, start.x, start.y));
         QWheelEvent wheel(p, view.mapToGlobal(p), {}, QPoint(0, 120), Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
