@@ -1,18 +1,18 @@
 #include "gui_command.h"
 
 #include <QApplication>
-#include <QCoreApplication>
 #include <QCommandLineParser>
+#include <QCoreApplication>
 #include <QHostAddress>
 #include <QRegularExpression>
 #include <QSurfaceFormat>
 #include <QTextStream>
 #include <cstdlib>
 
+#include "io/scene_io.h"
 #include "main_window.h"
 #include "net/network_address.h"
 #include "remote_window.h"
-#include "io/scene_io.h"
 #include "wire/protocol.h"
 
 namespace vssim {
@@ -35,14 +35,17 @@ int guiCommand(int argc, char** argv) {
         QStringList args = QCoreApplication::arguments();
         if (args.size() >= 2 && args[1] == "gui") args.removeAt(1);
         QCommandLineParser parser;
-        parser.setApplicationDescription("The vssim desktop app: the field, dragging robots, driving by hand, live plots;\n"
-                                         "it also serves TCP clients like vssim serve (docs/protocol.md). Guide: docs/app.md.");
+        parser.setApplicationDescription(
+            "The vssim desktop app: the field, dragging robots, driving by hand, live plots;\n"
+            "it also serves TCP clients like vssim serve (docs/protocol.md). Guide: docs/app.md.");
         parser.addHelpOption();
         parser.addPositionalArgument("scene", "Scene file or built-in scene name (default: kickoff_3v3).", "[SCENE]");
         const QCommandLineOption port(
-            "port", QStringLiteral("TCP port for clients (default %1; 0: any free port).").arg(protocol::kDefaultPort), "N");
+            "port", QStringLiteral("TCP port for clients (default %1; 0: any free port).").arg(protocol::kDefaultPort),
+            "N");
         const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
-        const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).", "HOST:PORT");
+        const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).",
+                                           "HOST:PORT");
         parser.addOptions({port, listen, connectTo});
         QTextStream err(stderr);
         if (!parser.parse(args)) {
@@ -103,7 +106,9 @@ int guiCommand(int argc, char** argv) {
     QString error;
     const std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
     if (!scene) {
-        err << "vssim gui: " << (path.isEmpty() ? QStringLiteral("no scene file or built-in scene \"%1\"").arg(sceneName) : error) << "\n";
+        err << "vssim gui: "
+            << (path.isEmpty() ? QStringLiteral("no scene file or built-in scene \"%1\"").arg(sceneName) : error)
+            << "\n";
         return 2;
     }
     MainWindow window(*scene, path, server);

@@ -3,8 +3,8 @@
 #include <QTextStream>
 #include <string>
 
-#include "run_command.h"
 #include "gui_command.h"
+#include "run_command.h"
 #include "serve_command.h"
 #include "stress_command.h"
 
@@ -12,20 +12,20 @@ namespace {
 
 QString mainHelp() {
     return QStringLiteral(
-        "vssim %1 - simulator of IEEE Very Small Size Soccer robots (DC motors, ball, collisions)\n"
-        "\n"
-        "Usage:\n"
-        "  vssim                 open the desktop app on the 3-vs-3 kick-off (without a display: the demo)\n"
-        "  vssim gui [SCENE]     open the desktop app on a scene (vssim gui --help)\n"
-        "  vssim demo            run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
-        "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
-        "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
-        "                        (vssim serve --help; protocol: docs/protocol.md)\n"
-        "  vssim stress ...      numerical-stability stress test on random scenes (vssim stress --help)\n"
-        "  vssim --help          this help\n"
-        "  vssim --version       the version\n"
-        "\n"
-        "Scenes are JSON files (docs/scenes.md); the model is described in docs/model.md.\n")
+               "vssim %1 - simulator of IEEE Very Small Size Soccer robots (DC motors, ball, collisions)\n"
+               "\n"
+               "Usage:\n"
+               "  vssim                 open the desktop app on the 3-vs-3 kick-off (without a display: the demo)\n"
+               "  vssim gui [SCENE]     open the desktop app on a scene (vssim gui --help)\n"
+               "  vssim demo            run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
+               "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
+               "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
+               "                        (vssim serve --help; protocol: docs/protocol.md)\n"
+               "  vssim stress ...      numerical-stability stress test on random scenes (vssim stress --help)\n"
+               "  vssim --help          this help\n"
+               "  vssim --version       the version\n"
+               "\n"
+               "Scenes are JSON files (docs/scenes.md); the model is described in docs/model.md.\n")
         .arg(VSSIM_VERSION);
 }
 
@@ -48,7 +48,8 @@ int main(int argc, char** argv) {
             const bool help = args[2] == "-h" || args[2] == "--help";
             (help ? QTextStream(stdout) : QTextStream(stderr))
                 << (help ? "" : QStringLiteral("vssim demo: unexpected argument \"%1\"\n").arg(args[2]))
-                << "Usage: vssim demo\n  Runs the built-in 3-vs-3 kick-off headless for 5 s and prints where everything ended up.\n";
+                << "Usage: vssim demo\n  Runs the built-in 3-vs-3 kick-off headless for 5 s and prints where "
+                   "everything ended up.\n";
             return help ? 0 : 2;
         }
         return vssim::demoCommand();

@@ -1,5 +1,6 @@
 #include "run_command.h"
 
+#include <unistd.h>
 #include <QCommandLineParser>
 #include <QCoreApplication>
 #include <QElapsedTimer>
@@ -10,7 +11,6 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <unistd.h>
 
 #include "io/csv_writer.h"
 #include "io/scene_io.h"
@@ -31,12 +31,12 @@ QTextStream& err() {
 
 struct RunOptions {
     QString scenePath;
-    double duration = 0.0;                    // s
-    std::optional<double> dt;                 // s
-    std::optional<double> sample;             // s
+    double duration = 0.0;         // s
+    std::optional<double> dt;      // s
+    std::optional<double> sample;  // s
     std::optional<Integrator> integrator;
     std::optional<CollisionModel> collisionModel;
-    QString outPath;                          // empty: stdout
+    QString outPath;  // empty: stdout
 };
 
 // Parses a finite number with a unit for the message; nullopt and *error set otherwise.
@@ -61,8 +61,7 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     const QCommandLineOption duration("duration", "Simulated time to run, s (required).", "S");
     const QCommandLineOption dt("dt", "Integration step, s (default: the scene's, 0.001).", "S");
     const QCommandLineOption integrator("integrator", "euler, rk4 or exact (default: the scene's, rk4).", "NAME");
-    const QCommandLineOption collision("collision-model", "paper or impulse (default: the scene's, paper).",
-                                       "NAME");
+    const QCommandLineOption collision("collision-model", "paper or impulse (default: the scene's, paper).", "NAME");
     const QCommandLineOption sample("sample", "Time between CSV samples, s (default: dt).", "S");
     const QCommandLineOption out("out", "Write the CSV to FILE instead of standard output.", "FILE");
     parser.addOptions({help, duration, dt, integrator, collision, sample, out});
@@ -112,15 +111,16 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     if (parser.isSet(integrator)) {
         o.integrator = integratorFromName(parser.value(integrator));
         if (!o.integrator) {
-            *error = QStringLiteral("--integrator: expected euler, rk4 or exact, got \"%1\"").arg(parser.value(integrator));
+            *error =
+                QStringLiteral("--integrator: expected euler, rk4 or exact, got \"%1\"").arg(parser.value(integrator));
             return std::nullopt;
         }
     }
     if (parser.isSet(collision)) {
         o.collisionModel = collisionModelFromName(parser.value(collision));
         if (!o.collisionModel) {
-            *error = QStringLiteral("--collision-model: expected paper or impulse, got \"%1\"")
-                         .arg(parser.value(collision));
+            *error =
+                QStringLiteral("--collision-model: expected paper or impulse, got \"%1\"").arg(parser.value(collision));
             return std::nullopt;
         }
     }
@@ -143,8 +143,11 @@ bool applyOptions(const RunOptions& o, Scene& scene, QString* error) {
         return false;
     }
     if (static_cast<double>(Simulation::stepIndexAtOrAfter(o.duration, dt)) > kMaxSteps) {
-        *error = QStringLiteral("--duration %1 s at dt = %2 s is more than %3 steps; use a longer --dt or a shorter run")
-                     .arg(o.duration).arg(dt).arg(kMaxSteps);
+        *error =
+            QStringLiteral("--duration %1 s at dt = %2 s is more than %3 steps; use a longer --dt or a shorter run")
+                .arg(o.duration)
+                .arg(dt)
+                .arg(kMaxSteps);
         return false;
     }
     return true;
@@ -159,8 +162,9 @@ QStringList stabilityWarnings(const Scene& scene) {
         const double rate = makeRobotModel(robot.params).fastestRate;  // 1/s
         const double limit = stableStepLimit(s.integrator, rate);      // s
         if (s.dt > limit)
-            warnings << QStringLiteral("warning: robot \"%1\" has a motor time constant of %2 ms: %3 is unstable "
-                                       "for dt > %4 ms (dt = %5 ms); use --integrator exact or a --dt below %4 ms")
+            warnings << QStringLiteral(
+                            "warning: robot \"%1\" has a motor time constant of %2 ms: %3 is unstable "
+                            "for dt > %4 ms (dt = %5 ms); use --integrator exact or a --dt below %4 ms")
                             .arg(QString::fromStdString(robot.name))
                             .arg(1e3 / rate, 0, 'g', 3)
                             .arg(integratorName(s.integrator))
@@ -196,33 +200,33 @@ private:
 
 QString runHelpText() {
     return QStringLiteral(
-        "Usage: vssim run SCENE --duration S [options]\n"
-        "\n"
-        "Runs SCENE (a JSON scene file, see docs/scenes.md, or a built-in scene name) headless\n"
-        "for S seconds of simulated time and writes CSV, one row per body per sample:\n"
-        "  t,body,x,y,theta,v,omega,e_right,e_left,omega_right,omega_left,i_right,i_left\n"
-        "  (s, name, m, m, rad, m/s, rad/s, V, V, rad/s, rad/s, A, A; for the ball theta is its\n"
-        "  heading, v its speed and the robot-only columns are empty; 17 significant digits)\n"
-        "\n"
-        "Options:\n"
-        "  --duration S            simulated time to run, s (required)\n"
-        "  --dt S                  integration step, s, 0 < S <= 0.1 (default: the scene's, 0.001)\n"
-        "  --integrator NAME       euler | rk4 | exact (default: the scene's, rk4); exact solves the\n"
-        "                          motor dynamics in closed form and, between voltage changes and\n"
-        "                          away from contacts, steps straight to the next sample\n"
-        "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
-        "  --sample S              time between samples, s, >= dt (default: dt)\n"
-        "  --out FILE              write the CSV to FILE (written only if the run succeeds)\n"
-        "  -h, --help              show this help\n"
-        "\n"
-        "Built-in scenes: %1\n"
-        "A summary (steps, contacts, run time, real-time factor) goes to standard error, and a\n"
-        "warning when dt is beyond Euler's or RK4's stability limit for a robot of the scene.\n"
-        "Samples fall on the first step boundary at or after each multiple of --sample, and the\n"
-        "run ends on the first step boundary at or after --duration; its final state is always\n"
-        "written.\n"
-        "Exit status: 0 success, 2 bad option or scene or an output file that cannot be created,\n"
-        "1 failed while writing the output.\n")
+               "Usage: vssim run SCENE --duration S [options]\n"
+               "\n"
+               "Runs SCENE (a JSON scene file, see docs/scenes.md, or a built-in scene name) headless\n"
+               "for S seconds of simulated time and writes CSV, one row per body per sample:\n"
+               "  t,body,x,y,theta,v,omega,e_right,e_left,omega_right,omega_left,i_right,i_left\n"
+               "  (s, name, m, m, rad, m/s, rad/s, V, V, rad/s, rad/s, A, A; for the ball theta is its\n"
+               "  heading, v its speed and the robot-only columns are empty; 17 significant digits)\n"
+               "\n"
+               "Options:\n"
+               "  --duration S            simulated time to run, s (required)\n"
+               "  --dt S                  integration step, s, 0 < S <= 0.1 (default: the scene's, 0.001)\n"
+               "  --integrator NAME       euler | rk4 | exact (default: the scene's, rk4); exact solves the\n"
+               "                          motor dynamics in closed form and, between voltage changes and\n"
+               "                          away from contacts, steps straight to the next sample\n"
+               "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
+               "  --sample S              time between samples, s, >= dt (default: dt)\n"
+               "  --out FILE              write the CSV to FILE (written only if the run succeeds)\n"
+               "  -h, --help              show this help\n"
+               "\n"
+               "Built-in scenes: %1\n"
+               "A summary (steps, contacts, run time, real-time factor) goes to standard error, and a\n"
+               "warning when dt is beyond Euler's or RK4's stability limit for a robot of the scene.\n"
+               "Samples fall on the first step boundary at or after each multiple of --sample, and the\n"
+               "run ends on the first step boundary at or after --duration; its final state is always\n"
+               "written.\n"
+               "Exit status: 0 success, 2 bad option or scene or an output file that cannot be created,\n"
+               "1 failed while writing the output.\n")
         .arg(builtinSceneNames().join(", "));
 }
 
@@ -300,10 +304,12 @@ int runCommand(const QStringList& arguments) {
         return 1;
     }
     const double seconds = progress.elapsedSeconds();
-    const QString steps = longSteps > 0 ? QStringLiteral("%1 steps of %2 s and %3 long steps").arg(stepCalls).arg(dt).arg(longSteps)
-                                        : QStringLiteral("%1 steps of %2 s").arg(stepCalls).arg(dt);
-    err() << QStringLiteral("vssim run: %1 s simulated in %2 (%3), %4 contact%5, %6 s of run time including the CSV "
-                            "(%7x real time)\n")
+    const QString steps =
+        longSteps > 0 ? QStringLiteral("%1 steps of %2 s and %3 long steps").arg(stepCalls).arg(dt).arg(longSteps)
+                      : QStringLiteral("%1 steps of %2 s").arg(stepCalls).arg(dt);
+    err() << QStringLiteral(
+                 "vssim run: %1 s simulated in %2 (%3), %4 contact%5, %6 s of run time including the CSV "
+                 "(%7x real time)\n")
                  .arg(simulation.state().time)
                  .arg(steps)
                  .arg(integratorName(simulation.model().settings.integrator))
@@ -329,23 +335,32 @@ int demoCommand() {
     while (simulation.state().time < duration - 0.5 * simulation.dt()) contacts += simulation.step().contacts;
     const double seconds = std::max(1e-6, clock.nsecsElapsed() * 1e-9);
     QTextStream out(stdout);
-    out << "vssim: built-in scene kickoff_3v3, " << duration << " s simulated in " << seconds * 1e3
-        << " ms (" << QString::number(duration / seconds, 'f', 0) << "x real time), " << contacts
-        << " contacts\n\n";
+    out << "vssim: built-in scene kickoff_3v3, " << duration << " s simulated in " << seconds * 1e3 << " ms ("
+        << QString::number(duration / seconds, 'f', 0) << "x real time), " << contacts << " contacts\n\n";
     out << QStringLiteral("%1 %2 %3 %4 %5 %6\n")
-               .arg("body", -8).arg("x [m]", 9).arg("y [m]", 9).arg("theta [rad]", 12).arg("v [m/s]", 9)
+               .arg("body", -8)
+               .arg("x [m]", 9)
+               .arg("y [m]", 9)
+               .arg("theta [rad]", 12)
+               .arg("v [m/s]", 9)
                .arg("omega [rad/s]", 14);
     const WorldState& s = simulation.state();
     for (std::size_t i = 0; i < s.robots.size(); ++i) {
         const RobotState& r = s.robots[i];
         out << QStringLiteral("%1 %2 %3 %4 %5 %6\n")
                    .arg(QString::fromStdString(scene->robots[i].name), -8)
-                   .arg(r.x, 9, 'f', 4).arg(r.y, 9, 'f', 4).arg(r.theta, 12, 'f', 4).arg(r.v, 9, 'f', 4)
+                   .arg(r.x, 9, 'f', 4)
+                   .arg(r.y, 9, 'f', 4)
+                   .arg(r.theta, 12, 'f', 4)
+                   .arg(r.v, 9, 'f', 4)
                    .arg(r.omega, 14, 'f', 4);
     }
     out << QStringLiteral("%1 %2 %3 %4 %5\n")
-               .arg("ball", -8).arg(s.ball.x, 9, 'f', 4).arg(s.ball.y, 9, 'f', 4)
-               .arg(std::atan2(s.ball.vy, s.ball.vx), 12, 'f', 4).arg(std::hypot(s.ball.vx, s.ball.vy), 9, 'f', 4);
+               .arg("ball", -8)
+               .arg(s.ball.x, 9, 'f', 4)
+               .arg(s.ball.y, 9, 'f', 4)
+               .arg(std::atan2(s.ball.vy, s.ball.vx), 12, 'f', 4)
+               .arg(std::hypot(s.ball.vx, s.ball.vy), 9, 'f', 4);
     out << "\nNext: " << QCoreApplication::arguments().value(0, "vssim")
         << " run kickoff_3v3 --duration 10 --out run.csv   (see --help)\n";
     return 0;

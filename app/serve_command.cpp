@@ -11,11 +11,11 @@
 #include <cmath>
 #include <csignal>
 
+#include "io/scene_io.h"
 #include "net/control_server.h"
+#include "net/network_address.h"
 #include "realtime/engine_thread.h"
 #include "realtime/monotonic_clock.h"
-#include "net/network_address.h"
-#include "io/scene_io.h"
 
 namespace vssim {
 
@@ -34,29 +34,29 @@ QTextStream& err() {
 
 QString serveHelpText() {
     return QStringLiteral(
-        "Usage: vssim serve SCENE [options]\n"
-        "\n"
-        "Runs SCENE (a scene file or a built-in scene name) headless and serves it over TCP:\n"
-        "clients send motor voltages and receive camera images every 30 ms of simulated\n"
-        "time and, if they ask, the ground truth (protocol: docs/protocol.md).\n"
-        "\n"
-        "Options:\n"
-        "  --port N             TCP port (default %1; 0: any free port)\n"
-        "  --listen ADDR        address to listen on (default 127.0.0.1; 0.0.0.0: every interface,\n"
-        "                       with no authentication: only on a network you trust)\n"
-        "  --speed X|max        simulated seconds per wall second, 0.001 to 100 (default 1), or max:\n"
-        "                       as fast as possible\n"
-        "  --lockstep           time advances only when a client sends CONTROL step\n"
-        "  --paused             start paused (CONTROL resume or step)\n"
-        "  --scene-commands     also apply the scene's own voltage commands (by default only the\n"
-        "                       clients drive the robots)\n"
-        "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
-        "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
-        "  -h, --help           this help\n"
-        "\n"
-        "On start it prints \"listening on ADDR:PORT\" on standard output; the log (connections,\n"
-        "errors, disconnections) goes to standard error. Stop it with Ctrl-C.\n"
-        "Exit status: 0 stopped, 1 cannot listen, 2 bad usage or scene.\n")
+               "Usage: vssim serve SCENE [options]\n"
+               "\n"
+               "Runs SCENE (a scene file or a built-in scene name) headless and serves it over TCP:\n"
+               "clients send motor voltages and receive camera images every 30 ms of simulated\n"
+               "time and, if they ask, the ground truth (protocol: docs/protocol.md).\n"
+               "\n"
+               "Options:\n"
+               "  --port N             TCP port (default %1; 0: any free port)\n"
+               "  --listen ADDR        address to listen on (default 127.0.0.1; 0.0.0.0: every interface,\n"
+               "                       with no authentication: only on a network you trust)\n"
+               "  --speed X|max        simulated seconds per wall second, 0.001 to 100 (default 1), or max:\n"
+               "                       as fast as possible\n"
+               "  --lockstep           time advances only when a client sends CONTROL step\n"
+               "  --paused             start paused (CONTROL resume or step)\n"
+               "  --scene-commands     also apply the scene's own voltage commands (by default only the\n"
+               "                       clients drive the robots)\n"
+               "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
+               "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
+               "  -h, --help           this help\n"
+               "\n"
+               "On start it prints \"listening on ADDR:PORT\" on standard output; the log (connections,\n"
+               "errors, disconnections) goes to standard error. Stop it with Ctrl-C.\n"
+               "Exit status: 0 stopped, 1 cannot listen, 2 bad usage or scene.\n")
         .arg(protocol::kDefaultPort);
 }
 
@@ -84,8 +84,9 @@ int serveCommand(const QStringList& arguments) {
         return 0;
     }
     if (parser.positionalArguments().size() != 1)
-        return usage(parser.positionalArguments().isEmpty() ? QStringLiteral("a scene is required")
-                                                            : QStringLiteral("one scene only, got %1").arg(parser.positionalArguments().join(' ')));
+        return usage(parser.positionalArguments().isEmpty()
+                         ? QStringLiteral("a scene is required")
+                         : QStringLiteral("one scene only, got %1").arg(parser.positionalArguments().join(' ')));
 
     ServerSettings server;
     EngineLoopSettings loop;
@@ -117,8 +118,11 @@ int serveCommand(const QStringList& arguments) {
         } else if (ok && value >= kMinSpeed && value <= kMaxSpeed) {
             loop.speed = value;
         } else {
-            return usage(QStringLiteral("--speed: expected a factor from %1 to %2 (1 = real time) or \"max\", got \"%3\"")
-                             .arg(kMinSpeed).arg(kMaxSpeed).arg(text));
+            return usage(
+                QStringLiteral("--speed: expected a factor from %1 to %2 (1 = real time) or \"max\", got \"%3\"")
+                    .arg(kMinSpeed)
+                    .arg(kMaxSpeed)
+                    .arg(text));
         }
     }
     if (parser.isSet(lockstep)) {
@@ -172,13 +176,15 @@ int serveCommand(const QStringList& arguments) {
     out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
     out.flush();
     log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6")
-            .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName()) : scenePath)
+            .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName())
+                                            : scenePath)
             .arg(scene->robots.size())
             .arg(runModeName(loop.mode))
             .arg(loop.mode == RunMode::Realtime ? QStringLiteral(" x%1").arg(loop.speed) : QString())
             .arg(scene->simulation.dt)
-            .arg(parser.isSet(sceneCommands) ? QStringLiteral("%1 scene commands applied").arg(scheduled)
-                                             : QStringLiteral("%1 scene commands ignored (--scene-commands applies them)").arg(scheduled)));
+            .arg(parser.isSet(sceneCommands)
+                     ? QStringLiteral("%1 scene commands applied").arg(scheduled)
+                     : QStringLiteral("%1 scene commands ignored (--scene-commands applies them)").arg(scheduled)));
 
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);

@@ -124,8 +124,9 @@ QStringList failedChecks(const RunFigures& f) {
                       .arg(number(f.overlap), number(kMaxOverlap))
                       .arg(f.overlapTime);
     if (f.energyMeasured && f.energyGainRelative > kMaxEnergyGain)
-        failed << QStringLiteral("collisions created %1 of the kinetic energy in one step (limit %2; largest gain %3 J) "
-                                 "at t = %4 s")
+        failed << QStringLiteral(
+                      "collisions created %1 of the kinetic energy in one step (limit %2; largest gain %3 J) "
+                      "at t = %4 s")
                       .arg(number(f.energyGainRelative), number(kMaxEnergyGain), number(f.energyGain))
                       .arg(f.energyTime);
     if (f.determinismChecked && !f.deterministic)

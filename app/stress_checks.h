@@ -34,20 +34,20 @@ double kineticEnergyOf(const WorldModel& model, const WorldState& state);
 
 // The worst figures of one run. Times are simulated seconds.
 struct RunFigures {
-    std::int64_t steps = 0;        // steps of dt taken
-    std::int64_t contacts = 0;     // contacts found, summed over the steps
-    bool finite = true;            // no NaN or infinity ever appeared
-    double nonFiniteTime = 0.0;    // s, when it first did
-    double outside = 0.0;          // m, worst distance outside the field (0 when always inside)
-    double outsideTime = 0.0;      // s
-    double overlap = 0.0;          // m, worst overlap between bodies
-    double overlapTime = 0.0;      // s
-    bool energyMeasured = false;   // a zero-voltage run: the energy figures mean something
-    double energyGain = 0.0;       // J, largest kinetic energy created by the contacts of one step (RunChecker)
+    std::int64_t steps = 0;           // steps of dt taken
+    std::int64_t contacts = 0;        // contacts found, summed over the steps
+    bool finite = true;               // no NaN or infinity ever appeared
+    double nonFiniteTime = 0.0;       // s, when it first did
+    double outside = 0.0;             // m, worst distance outside the field (0 when always inside)
+    double outsideTime = 0.0;         // s
+    double overlap = 0.0;             // m, worst overlap between bodies
+    double overlapTime = 0.0;         // s
+    bool energyMeasured = false;      // a zero-voltage run: the energy figures mean something
+    double energyGain = 0.0;          // J, largest kinetic energy created by the contacts of one step (RunChecker)
     double energyGainRelative = 0.0;  // the largest such gain divided by the energy before the step
-    double energyTime = 0.0;       // s, when the largest relative increase happened
+    double energyTime = 0.0;          // s, when the largest relative increase happened
     bool determinismChecked = false;
-    bool deterministic = true;     // a second run ended in a bit-identical state
+    bool deterministic = true;  // a second run ended in a bit-identical state
 };
 
 // Feeds one run's states to the checks, after every step (or every advance).

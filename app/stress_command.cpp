@@ -1,5 +1,6 @@
 #include "stress_command.h"
 
+#include <unistd.h>
 #include <QCommandLineParser>
 #include <QElapsedTimer>
 #include <QTextStream>
@@ -13,12 +14,11 @@
 #include <mutex>
 #include <optional>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
-#include "vssim/state_hash.h"
 #include "stress_checks.h"
 #include "stress_scenes.h"
+#include "vssim/state_hash.h"
 #include "vssim/world.h"
 
 namespace vssim {
@@ -39,7 +39,7 @@ constexpr double kMaxSeconds = 120.0;          // s of simulated time per run
 constexpr double kMaxSceneSeconds = 100000.0;  // scenes x seconds
 constexpr double kCpuPerSceneSecond = 0.1;     // s of one core (measured: seed 1, 20 scenes x 5 s in 10 s)
 constexpr int kMaxJobs = 256;
-constexpr double kAdvanceInterval = 0.030;     // s: the camera period, the boundaries of the advanceTo runs
+constexpr double kAdvanceInterval = 0.030;  // s: the camera period, the boundaries of the advanceTo runs
 
 QTextStream& out() {
     static QTextStream stream(stdout);
@@ -55,8 +55,8 @@ struct StressOptions {
     int scenes = kDefaultScenes;
     double seconds = kDefaultSeconds;  // s
     std::uint32_t seed = kDefaultSeed;
-    int only = 0;                      // a scene number, 0: all scenes
-    int jobs = 1;                      // worker threads
+    int only = 0;  // a scene number, 0: all scenes
+    int jobs = 1;  // worker threads
 };
 
 // How a run is driven and checked, besides its scene.
@@ -256,7 +256,8 @@ RunResult execute(const RunJob& job, const StressOptions& o) {
             break;
     }
     scene.simulation.dt = result.dt;
-    scene.simulation.collision_model = job.model == ModelChoice::Paper ? CollisionModel::Paper : CollisionModel::Impulse;
+    scene.simulation.collision_model =
+        job.model == ModelChoice::Paper ? CollisionModel::Paper : CollisionModel::Impulse;
     result.restitution = job.model == ModelChoice::ImpulseRandom ? s.restitution : 1.0;
     scene.simulation.restitution = result.restitution;
 
@@ -288,7 +289,8 @@ QString figure(double value) { return value == 0.0 ? QStringLiteral("0") : QStri
 
 QString modelLabel(const RunJob& job, const RunResult& r) {
     if (job.model == ModelChoice::Paper) return QStringLiteral("paper");
-    return QStringLiteral("impulse e=%1").arg(r.restitution == 1.0 ? QStringLiteral("1") : QString::number(r.restitution, 'f', 2));
+    return QStringLiteral("impulse e=%1")
+        .arg(r.restitution == 1.0 ? QStringLiteral("1") : QString::number(r.restitution, 'f', 2));
 }
 
 QString kindLabel(const RunJob& job, const RunResult& r) {
@@ -475,7 +477,8 @@ int stressCommand(const QStringList& arguments) {
     clock.start();
     out() << QStringLiteral("vssim stress: seed %1, %2, %3 s per run, %4 runs (each twice), %5 threads\n\n")
                  .arg(o.seed)
-                 .arg(o.only > 0 ? QStringLiteral("scene %1 only").arg(o.only) : QStringLiteral("%1 scenes").arg(o.scenes))
+                 .arg(o.only > 0 ? QStringLiteral("scene %1 only").arg(o.only)
+                                 : QStringLiteral("%1 scenes").arg(o.scenes))
                  .arg(o.seconds)
                  .arg(jobs.size())
                  .arg(std::min<std::size_t>(o.jobs, jobs.size()))
@@ -535,7 +538,8 @@ int stressCommand(const QStringList& arguments) {
     for (std::thread& worker : workers) worker.join();
     progress.done();
 
-    out() << "\nWorst figures per integrator (energy: 0 V runs only; energy rel: relative to the energy before the step):\n"
+    out() << "\nWorst figures per integrator (energy: 0 V runs only; energy rel: relative to the energy before the "
+             "step):\n"
           << summaryHeader("integrator");
     for (Stepping s : kSteppings)
         if (byIntegrator.count(steppingName(s))) out() << summaryRow(steppingName(s), byIntegrator[steppingName(s)]);

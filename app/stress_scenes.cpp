@@ -31,9 +31,7 @@ public:
     double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
     double logUniform(double lo, double hi) { return lo * std::exp(std::log(hi / lo) * uniform()); }
     // lo..hi, both included.
-    int integer(int lo, int hi) {
-        return std::min(hi, lo + static_cast<int>(std::floor(uniform() * (hi - lo + 1))));
-    }
+    int integer(int lo, int hi) { return std::min(hi, lo + static_cast<int>(std::floor(uniform() * (hi - lo + 1)))); }
     bool coin() { return uniform() < 0.5; }
     double angle() { return uniform(-M_PI, M_PI); }
 
@@ -193,7 +191,7 @@ void makeCornerShots(Random& rng, StressScene& s, double seconds) {
     scene.ball_params.friction = rng.uniform(0.002, 0.02);  // N s/m: some balls keep bouncing for long
     const double hx = 0.5 * scene.field.length, hy = 0.5 * scene.field.width;
     constexpr double kCornerRegion = 0.3;  // m
-    scene.ball.x = 10.0;  // out of the way until the robots are placed
+    scene.ball.x = 10.0;                   // out of the way until the robots are placed
     for (double sx : {-1.0, 1.0})
         for (double sy : {-1.0, 1.0}) {
             const Region corner{sx > 0 ? hx - kCornerRegion : -hx, sx > 0 ? hx : -hx + kCornerRegion,
@@ -245,8 +243,7 @@ RobotParams extremeRobot(Random& rng) {
         const RobotModel model = makeRobotModel(p);
         const Eigen::Vector2d forward = model.steadyGain * Eigen::Vector2d(p.max_voltage, p.max_voltage);
         const Eigen::Vector2d spin = model.steadyGain * Eigen::Vector2d(p.max_voltage, -p.max_voltage);
-        if (model.fastestRate * kMinTimeConstant <= 1.0 && std::abs(forward(0)) <= 6.0 &&
-            std::abs(spin(1)) <= 200.0)
+        if (model.fastestRate * kMinTimeConstant <= 1.0 && std::abs(forward(0)) <= 6.0 && std::abs(spin(1)) <= 200.0)
             return p;
     }
     return RobotParams{};

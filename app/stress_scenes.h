@@ -35,15 +35,15 @@ constexpr double kMaxExactDt = 20e-3;
 constexpr double kMinTimeConstant = 3e-3;  // s
 
 struct StressScene {
-    int number = 1;                // 1-based; with the seed it identifies the scene
+    int number = 1;  // 1-based; with the seed it identifies the scene
     SceneKind kind = SceneKind::Pile;
-    Scene scene;                   // bodies and voltage commands for `seconds`; settings are set per run
-    bool hasZeroVoltage = false;   // piles: also run zeroVoltage
-    Scene zeroVoltage;             // the same bodies at random velocities, no commands (all voltages 0 V)
-    double restitution = 0.5;      // this scene's random restitution in [0, 1) for the impulse model
-    double dtEuler = 1e-3;         // s
-    double dtRk4 = 1e-3;           // s
-    double dtExact = 1e-3;         // s
+    Scene scene;                  // bodies and voltage commands for `seconds`; settings are set per run
+    bool hasZeroVoltage = false;  // piles: also run zeroVoltage
+    Scene zeroVoltage;            // the same bodies at random velocities, no commands (all voltages 0 V)
+    double restitution = 0.5;     // this scene's random restitution in [0, 1) for the impulse model
+    double dtEuler = 1e-3;        // s
+    double dtRk4 = 1e-3;          // s
+    double dtExact = 1e-3;        // s
 };
 
 StressScene makeStressScene(std::uint32_t seed, int number, double seconds);

@@ -17,7 +17,8 @@ Timing timeMedian(const std::function<void()>& work, int minRuns, double minSeco
     work();  // warm-up: caches, page faults, lazily built tables
     std::vector<double> times;
     double total = 0.0;
-    while (static_cast<int>(times.size()) < maxRuns && (static_cast<int>(times.size()) < minRuns || total < minSeconds)) {
+    while (static_cast<int>(times.size()) < maxRuns &&
+           (static_cast<int>(times.size()) < minRuns || total < minSeconds)) {
         const auto start = Clock::now();
         work();
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();

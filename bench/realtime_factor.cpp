@@ -21,8 +21,9 @@ int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log)
     const struct {
         const char* name;
         Scene scene;
-    } scenarios[] = {{"kickoff as shipped", shipped},
-                     {"kickoff, random voltages every 30 ms", kickoffWithRandomVoltages(options.sceneFile, 7, duration, 0.03)}};
+    } scenarios[] = {
+        {"kickoff as shipped", shipped},
+        {"kickoff, random voltages every 30 ms", kickoffWithRandomVoltages(options.sceneFile, 7, duration, 0.03)}};
     struct Setting {
         const char* name;
         Integrator integrator;
@@ -35,32 +36,33 @@ int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log)
     out << "scenario,setting,dt_s,simulated_s,run_time_s,realtime_factor,step_calls,long_steps,contacts,runs\n"
         << std::setprecision(6);
     for (const auto& scenario : scenarios) {
-    log << "  " << scenario.name << ":\n";
-    for (const Setting& s : settings) {
-        Scene scene = scenario.scene;
-        scene.simulation.integrator = s.integrator;
-        scene.simulation.long_steps = s.longSteps;
-        const std::int64_t end = Simulation::stepIndexAtOrAfter(duration, scene.simulation.dt);
-        AdvanceReport totals;
-        auto run = [&] {
-            Simulation sim(scene);
-            totals = {};
-            const std::int64_t perFrame = Simulation::stepIndexAtOrAfter(0.03, scene.simulation.dt);
-            for (std::int64_t k = perFrame; k < end + perFrame; k += perFrame) {  // frame by frame, as a server would
-                const AdvanceReport r = sim.advanceTo(std::min(k, end));
-                totals.stepCalls += r.stepCalls;
-                totals.longSteps += r.longSteps;
-                totals.contacts += r.contacts;
-            }
-        };
-        const Timing t = timeMedian(run, options.quick ? 1 : 5, options.quick ? 0.0 : 1.0, options.quick ? 1 : 21);
-        out << '"' << scenario.name << "\",\"" << s.name << "\"," << scene.simulation.dt << ',' << duration << ',' << t.median << ','
-            << duration / t.median << ',' << totals.stepCalls << ',' << totals.longSteps << ',' << totals.contacts << ','
-            << t.runs << '\n';
-        log << "  " << std::setw(20) << s.name << "  " << std::setw(9) << duration / t.median << "x real time  ("
-            << t.median * 1e3 << " ms for " << duration << " s; " << totals.stepCalls << " steps of dt, "
-            << totals.longSteps << " long steps, " << totals.contacts << " contacts)\n";
-    }
+        log << "  " << scenario.name << ":\n";
+        for (const Setting& s : settings) {
+            Scene scene = scenario.scene;
+            scene.simulation.integrator = s.integrator;
+            scene.simulation.long_steps = s.longSteps;
+            const std::int64_t end = Simulation::stepIndexAtOrAfter(duration, scene.simulation.dt);
+            AdvanceReport totals;
+            auto run = [&] {
+                Simulation sim(scene);
+                totals = {};
+                const std::int64_t perFrame = Simulation::stepIndexAtOrAfter(0.03, scene.simulation.dt);
+                for (std::int64_t k = perFrame; k < end + perFrame;
+                     k += perFrame) {  // frame by frame, as a server would
+                    const AdvanceReport r = sim.advanceTo(std::min(k, end));
+                    totals.stepCalls += r.stepCalls;
+                    totals.longSteps += r.longSteps;
+                    totals.contacts += r.contacts;
+                }
+            };
+            const Timing t = timeMedian(run, options.quick ? 1 : 5, options.quick ? 0.0 : 1.0, options.quick ? 1 : 21);
+            out << '"' << scenario.name << "\",\"" << s.name << "\"," << scene.simulation.dt << ',' << duration << ','
+                << t.median << ',' << duration / t.median << ',' << totals.stepCalls << ',' << totals.longSteps << ','
+                << totals.contacts << ',' << t.runs << '\n';
+            log << "  " << std::setw(20) << s.name << "  " << std::setw(9) << duration / t.median << "x real time  ("
+                << t.median * 1e3 << " ms for " << duration << " s; " << totals.stepCalls << " steps of dt, "
+                << totals.longSteps << " long steps, " << totals.contacts << " contacts)\n";
+        }
     }
     return 0;
 }

@@ -35,11 +35,12 @@ struct Observer {
     std::int64_t frames = 0, lastFrame = -1, gaps = 0;
 };
 
-void row(std::ostream& out, const char* scenario, const QString& source, const QString& metric, const QString& subscription,
-         const QJsonObject& s) {
-    out << '"' << scenario << "\"," << source.toStdString() << ',' << metric.toStdString() << ',' << subscription.toStdString() << ','
-        << s["count"].toDouble() << ',' << s["median"].toDouble() << ',' << s["p99"].toDouble() << ','
-        << s["max"].toDouble() << ',' << s["mean"].toDouble() << ',' << s["stddev"].toDouble() << '\n';
+void row(std::ostream& out, const char* scenario, const QString& source, const QString& metric,
+         const QString& subscription, const QJsonObject& s) {
+    out << '"' << scenario << "\"," << source.toStdString() << ',' << metric.toStdString() << ','
+        << subscription.toStdString() << ',' << s["count"].toDouble() << ',' << s["median"].toDouble() << ','
+        << s["p99"].toDouble() << ',' << s["max"].toDouble() << ',' << s["mean"].toDouble() << ','
+        << s["stddev"].toDouble() << '\n';
 }
 
 void runScenario(const Options& options, const char* scenario, bool allSubscriptions, std::ostream& out,
@@ -47,9 +48,8 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
     const double duration = options.quick ? 3.0 : 60.0;  // wall seconds
     QProcess server;
     server.setProcessChannelMode(QProcess::ForwardedErrorChannel);
-    server.start(QStringLiteral(VSSIM_BINARY),
-                 {"serve", QString::fromStdString(options.sceneFile), "--port", "0", "--quit-after",
-                  QString::number(duration + 30)});
+    server.start(QStringLiteral(VSSIM_BINARY), {"serve", QString::fromStdString(options.sceneFile), "--port", "0",
+                                                "--quit-after", QString::number(duration + 30)});
     if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000))
         throw std::runtime_error("vssim serve did not start");
     const QString line = QString::fromUtf8(server.readLine()).trimmed();  // "listening on 127.0.0.1:PORT"
@@ -63,16 +63,19 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
             Observer o;
             o.name = QStringLiteral("%1/%2%3").arg(images, encoding, QString(encoding) == "jpeg" ? "90" : "");
             o.client = std::make_unique<ProtocolClient>();
-            if (!o.client->connectTo(port) ||
-                !o.client->hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", images},
-                                             {"encoding", encoding}, {"jpeg_quality", 90}}))
+            if (!o.client->connectTo(port) || !o.client->hello(QJsonObject{{"protocol", 1},
+                                                                           {"role", "observer"},
+                                                                           {"images", images},
+                                                                           {"encoding", encoding},
+                                                                           {"jpeg_quality", 90}}))
                 throw std::runtime_error("observer " + o.name.toStdString() + " could not connect");
             observers.push_back(std::move(o));
         }
     }
     ProtocolClient team;
     const std::optional<QJsonObject> welcome =
-        team.connectTo(port) ? team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", "none"}}) : std::nullopt;
+        team.connectTo(port) ? team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", "none"}})
+                             : std::nullopt;
     if (!welcome) throw std::runtime_error("the team client could not connect");
     std::vector<int> robots;
     for (const QJsonValue& r : (*welcome)["robots"].toArray())
@@ -122,12 +125,16 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
     row(out, scenario, "server", "render_ms", "", stats["render_ms"].toObject());
     row(out, scenario, "server", "patch_area_percent", "", stats["patch_area_percent"].toObject());
     const QJsonObject encode = stats["encode_ms"].toObject(), bytes = stats["frame_bytes"].toObject();
-    for (auto it = encode.begin(); it != encode.end(); ++it) row(out, scenario, "server", "encode_ms", it.key(), it.value().toObject());
-    for (auto it = bytes.begin(); it != bytes.end(); ++it) row(out, scenario, "server", "frame_bytes", it.key(), it.value().toObject());
-    for (const Observer& o : observers) row(out, scenario, "client", "frame_period_ms", o.name, toJson(o.periodMs.summary()));
+    for (auto it = encode.begin(); it != encode.end(); ++it)
+        row(out, scenario, "server", "encode_ms", it.key(), it.value().toObject());
+    for (auto it = bytes.begin(); it != bytes.end(); ++it)
+        row(out, scenario, "server", "frame_bytes", it.key(), it.value().toObject());
+    for (const Observer& o : observers)
+        row(out, scenario, "client", "frame_period_ms", o.name, toJson(o.periodMs.summary()));
 
     const QJsonObject latency = stats["command_latency_ms"].toObject(), period = stats["frame_period_ms"].toObject();
-    log << "  " << scenario << ": " << duration << " s, " << commands << " commands, late " << stats["late_commands"].toInt() << "\n"
+    log << "  " << scenario << ": " << duration << " s, " << commands << " commands, late "
+        << stats["late_commands"].toInt() << "\n"
         << "  command latency (arrival -> applied): median " << latency["median"].toDouble() << " ms, p99 "
         << latency["p99"].toDouble() << " ms, max " << latency["max"].toDouble() << " ms\n"
         << "  image period at the engine: median " << period["median"].toDouble() << " ms, stddev "
@@ -139,8 +146,8 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
         const QJsonObject b = bytes[o.name].toObject(), e = encode[o.name].toObject();
         log << "  " << std::setw(14) << o.name.toStdString() << ": " << std::setw(8) << b["median"].toDouble()
             << " bytes/frame, encode " << std::setw(7) << e["median"].toDouble() << " ms; received " << o.frames
-            << " frames, " << o.gaps << " gaps, period median " << s.median << " ms, stddev " << s.stddev
-            << " ms, max " << s.max << " ms\n";
+            << " frames, " << o.gaps << " gaps, period median " << s.median << " ms, stddev " << s.stddev << " ms, max "
+            << s.max << " ms\n";
     }
 }
 
@@ -153,15 +160,19 @@ void runLockstep(const Options& options, const char* images, std::ostream& out, 
     const double duration = options.quick ? 2.0 : 20.0;  // wall seconds
     QProcess server;
     server.setProcessChannelMode(QProcess::ForwardedErrorChannel);
-    server.start(QStringLiteral(VSSIM_BINARY), {"serve", QString::fromStdString(options.sceneFile), "--lockstep", "--port",
-                                                "0", "--quit-after", QString::number(duration + 30)});
-    if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000)) throw std::runtime_error("vssim serve did not start");
+    server.start(QStringLiteral(VSSIM_BINARY), {"serve", QString::fromStdString(options.sceneFile), "--lockstep",
+                                                "--port", "0", "--quit-after", QString::number(duration + 30)});
+    if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000))
+        throw std::runtime_error("vssim serve did not start");
     const quint16 port = static_cast<quint16>(QString::fromUtf8(server.readLine()).trimmed().section(':', -1).toUInt());
     ProtocolClient team;
     const std::optional<QJsonObject> welcome =
-        team.connectTo(port) ? team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", images}, {"state", true}}) : std::nullopt;
+        team.connectTo(port)
+            ? team.hello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"images", images}, {"state", true}})
+            : std::nullopt;
     const bool withImages = QString(images) != "none";
-    if (!welcome || (withImages && !team.nextOf(protocol::MessageType::Frame))) throw std::runtime_error("lockstep client could not connect");
+    if (!welcome || (withImages && !team.nextOf(protocol::MessageType::Frame)))
+        throw std::runtime_error("lockstep client could not connect");
     QRandomGenerator random(11);
     SampleStats roundTripMs;
     QElapsedTimer wall;
@@ -191,11 +202,11 @@ void runLockstep(const Options& options, const char* images, std::ostream& out, 
     server.waitForFinished(5000);
     const QString subscription = withImages ? QStringLiteral("patches/png") : QStringLiteral("none");
     row(out, "lockstep", "client", "step_round_trip_ms", subscription, toJson(roundTripMs.summary()));
-    out << "\"lockstep\",client,realtime_factor," << subscription.toStdString() << ",1," << simulated / seconds << ",,,,\n";
+    out << "\"lockstep\",client,realtime_factor," << subscription.toStdString() << ",1," << simulated / seconds
+        << ",,,,\n";
     log << "  lockstep: " << steps << " steps of 30 ms with voltages, " << (withImages ? "PNG patches" : "no images")
-        << " and the ground truth in " << seconds
-        << " s: " << steps / seconds << " steps/s, " << simulated / seconds << "x real time; round trip median "
-        << roundTripMs.summary().median << " ms (" << frames << " frames)\n";
+        << " and the ground truth in " << seconds << " s: " << steps / seconds << " steps/s, " << simulated / seconds
+        << "x real time; round trip median " << roundTripMs.summary().median << " ms (" << frames << " frames)\n";
 }
 
 int serveLatency(const Options& options, std::ostream& out, std::ostream& log) {

@@ -54,7 +54,8 @@ std::vector<double> samplePositions(const Scene& base, const Config& c, std::int
 
 double maxDistance(const std::vector<double>& a, const std::vector<double>& b) {
     double worst = 0.0;
-    for (std::size_t k = 0; k + 1 < a.size(); k += 2) worst = std::max(worst, std::hypot(a[k] - b[k], a[k + 1] - b[k + 1]));
+    for (std::size_t k = 0; k + 1 < a.size(); k += 2)
+        worst = std::max(worst, std::hypot(a[k] - b[k], a[k + 1] - b[k + 1]));
     return worst;
 }
 
@@ -74,7 +75,8 @@ int workPrecision(const Options& options, std::ostream& out, std::ostream& log) 
         log << "work-precision: the free-flight scene had " << contacts << " contacts; it must have none\n";
         return 1;
     }
-    log << std::setprecision(3) << "work-precision: reference = exact, 0.25 ms steps; its largest distance to RK4 at 10 us is "
+    log << std::setprecision(3)
+        << "work-precision: reference = exact, 0.25 ms steps; its largest distance to RK4 at 10 us is "
         << maxDistance(reference, fineRk4) << " m\n";
 
     std::vector<double> steps = {1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 3e-3, 5e-3, 6e-3, 1e-2, 1.5e-2, 3e-2};

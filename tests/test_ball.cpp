@@ -61,8 +61,8 @@ void TestBall::bouncesOffWallLikeAMirror() {
     Simulation sim(scene);
     for (int k = 0; k < 300; ++k) sim.step();
     const BallState& b = sim.state().ball;
-    QVERIFY(std::abs(b.vx - 1.0) < 1e-12);   // tangential component kept
-    QVERIFY(std::abs(b.vy - 1.5) < 1e-12);   // normal component reversed
+    QVERIFY(std::abs(b.vx - 1.0) < 1e-12);  // tangential component kept
+    QVERIFY(std::abs(b.vy - 1.5) < 1e-12);  // normal component reversed
     // It travelled as a mirror image: x as if free; y reflected about the
     // line the centre touched, y = -0.65 + r_b.
     QVERIFY(std::abs(b.x - (0.2 + 0.3)) < 1e-9);

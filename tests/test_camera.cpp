@@ -24,8 +24,8 @@ namespace {
 // from camera_colours.h, so that a wrong constant fails).
 const cv::Vec3b kFloor(20, 20, 20), kOutside(70, 70, 70), kWall(200, 200, 200);
 const cv::Vec3b kYellow(0, 255, 255), kBlue(255, 0, 0), kOrange(0, 128, 255);
-const std::array<cv::Vec3b, 6> kIdentity{{{0, 0, 255}, {0, 255, 0}, {255, 0, 255}, {255, 255, 0}, {255, 255, 255},
-                                          {128, 0, 128}}};
+const std::array<cv::Vec3b, 6> kIdentity{
+    {{0, 0, 255}, {0, 255, 0}, {255, 0, 255}, {255, 255, 0}, {255, 255, 255}, {128, 0, 128}}};
 
 constexpr double kFarAway = 5.0;  // m: a place far outside the image
 
@@ -375,8 +375,8 @@ void TestCamera::patchOfEachBodyHoldsItsDrawing() {
         cv::bitwise_and(differenceMask(frame, renderer.background()), ~unionMask(frame.size(), {patches[body]}),
                         outside);
         QCOMPARE(cv::countNonZero(outside), 0);
-        const double size = body < state.robots.size() ? std::sqrt(2.0) * scene.robots[body].params.side
-                                                       : 2 * scene.ball_params.radius;
+        const double size =
+            body < state.robots.size() ? std::sqrt(2.0) * scene.robots[body].params.side : 2 * scene.ball_params.radius;
         QVERIFY(patches[body].width <= size * scale + 6 && patches[body].height <= size * scale + 6);
         for (std::size_t i = 0; i < patches.size(); ++i)
             if (i != body) QVERIFY(patches[i].empty());

@@ -2,11 +2,11 @@
 // of bad input giving a clear message, a non-zero exit and no output file.
 #include <QtTest>
 
-#include <QTemporaryDir>
 #include <Eigen/Eigenvalues>
+#include <QTemporaryDir>
 
-#include "run_vssim.h"
 #include "io/scene_io.h"
+#include "run_vssim.h"
 #include "vssim/robot_model.h"
 #include "vssim/world.h"
 
@@ -72,7 +72,7 @@ void TestCli::csvHasHeaderAndOneRowPerBodyPerSample() {
     QVERIFY(lines.last().startsWith("0.10000000000000001,ball,"));  // 100 * 0.001 printed to 17 digits
     QCOMPARE(lines.last().count(','), 12);  // ball rows keep every column, robot-only ones empty
     QVERIFY(lines.last().endsWith(",,,,,,,"));
-    QVERIFY(r.err.contains("100 steps"));   // the summary goes to standard error
+    QVERIFY(r.err.contains("100 steps"));  // the summary goes to standard error
 }
 
 void TestCli::finalStateAlwaysWritten() {
@@ -85,7 +85,8 @@ void TestCli::finalStateAlwaysWritten() {
     QCOMPARE(lines.last().split(',').first().toDouble(), 105 * 0.001);
     QCOMPARE(lines[lines.size() - 8].split(',').first().toDouble(), 100 * 0.001);
     // With the exact integrator the summary counts its long steps.
-    const Result exact = runVssim({"run", "kickoff_3v3", "--duration", "1", "--sample", "0.5", "--integrator", "exact"});
+    const Result exact =
+        runVssim({"run", "kickoff_3v3", "--duration", "1", "--sample", "0.5", "--integrator", "exact"});
     QCOMPARE(exact.exitCode, 0);
     QVERIFY2(exact.err.contains(" long steps (exact)"), exact.err.constData());
 }
@@ -146,20 +147,34 @@ void TestCli::badInput_data() {
     QTest::addColumn<QString>("sceneText");  // written to a temporary scene file named by %SCENE%
     QTest::addColumn<QString>("message");
     const QString ok = sceneFile("ball_walls.json");
-    QTest::newRow("unknown option") << QStringList{"run", ok, "--duration", "1", "--speed", "2"} << "" << "Unknown option 'speed'";
-    QTest::newRow("missing duration") << QStringList{"run", ok} << "" << "--duration is required";
-    QTest::newRow("negative duration") << QStringList{"run", ok, "--duration", "-1"} << "" << "--duration: must be > 0 s";
-    QTest::newRow("nan duration") << QStringList{"run", ok, "--duration", "nan"} << "" << "--duration: expected a number";
-    QTest::newRow("text dt") << QStringList{"run", ok, "--duration", "1", "--dt", "fast"} << "" << "--dt: expected a number of seconds, got \"fast\"";
-    QTest::newRow("huge dt") << QStringList{"run", ok, "--duration", "1", "--dt", "0.5"} << "" << "--dt: must be <= 0.1 s";
-    QTest::newRow("bad integrator") << QStringList{"run", ok, "--duration", "1", "--integrator", "rk45"} << "" << "--integrator: expected euler, rk4 or exact, got \"rk45\"";
-    QTest::newRow("bad collision model") << QStringList{"run", ok, "--duration", "1", "--collision-model", "soft"} << "" << "--collision-model: expected paper or impulse";
-    QTest::newRow("sample below dt") << QStringList{"run", ok, "--duration", "1", "--sample", "0.0001"} << "" << "--sample: must be >= dt";
-    QTest::newRow("too many steps") << QStringList{"run", ok, "--duration", "1e9", "--dt", "0.0001"} << "" << "steps";
-    QTest::newRow("no scene") << QStringList{"run", "--duration", "1"} << "" << "missing the scene file";
-    QTest::newRow("two scenes") << QStringList{"run", ok, ok, "--duration", "1"} << "" << "expected one scene file";
-    QTest::newRow("missing file") << QStringList{"run", "/nonexistent/scene.json", "--duration", "1"} << "" << "no such file";
-    QTest::newRow("syntax error") << QStringList{"run", "%SCENE%", "--duration", "1"} << "{\n  \"ball\": {\"x\": 0,}\n}" << "line 2";
+    QTest::newRow("unknown option") << QStringList{"run", ok, "--duration", "1", "--speed", "2"} << ""
+                                    << "Unknown option 'speed'";
+    QTest::newRow("missing duration") << QStringList{"run", ok} << ""
+                                      << "--duration is required";
+    QTest::newRow("negative duration") << QStringList{"run", ok, "--duration", "-1"} << ""
+                                       << "--duration: must be > 0 s";
+    QTest::newRow("nan duration") << QStringList{"run", ok, "--duration", "nan"} << ""
+                                  << "--duration: expected a number";
+    QTest::newRow("text dt") << QStringList{"run", ok, "--duration", "1", "--dt", "fast"} << ""
+                             << "--dt: expected a number of seconds, got \"fast\"";
+    QTest::newRow("huge dt") << QStringList{"run", ok, "--duration", "1", "--dt", "0.5"} << ""
+                             << "--dt: must be <= 0.1 s";
+    QTest::newRow("bad integrator") << QStringList{"run", ok, "--duration", "1", "--integrator", "rk45"} << ""
+                                    << "--integrator: expected euler, rk4 or exact, got \"rk45\"";
+    QTest::newRow("bad collision model") << QStringList{"run", ok, "--duration", "1", "--collision-model", "soft"} << ""
+                                         << "--collision-model: expected paper or impulse";
+    QTest::newRow("sample below dt") << QStringList{"run", ok, "--duration", "1", "--sample", "0.0001"} << ""
+                                     << "--sample: must be >= dt";
+    QTest::newRow("too many steps") << QStringList{"run", ok, "--duration", "1e9", "--dt", "0.0001"} << ""
+                                    << "steps";
+    QTest::newRow("no scene") << QStringList{"run", "--duration", "1"} << ""
+                              << "missing the scene file";
+    QTest::newRow("two scenes") << QStringList{"run", ok, ok, "--duration", "1"} << ""
+                                << "expected one scene file";
+    QTest::newRow("missing file") << QStringList{"run", "/nonexistent/scene.json", "--duration", "1"} << ""
+                                  << "no such file";
+    QTest::newRow("syntax error") << QStringList{"run", "%SCENE%", "--duration", "1"} << "{\n  \"ball\": {\"x\": 0,}\n}"
+                                  << "line 2";
     QTest::newRow("bad value") << QStringList{"run", "%SCENE%", "--duration", "1"}
                                << "{\"robots\": [{\"params\": {\"right\": {\"resistance\": \"high\"}}}]}"
                                << "robots[0].params.right.resistance: expected a number";
@@ -243,8 +258,9 @@ void TestCli::warnsWhenTheStepIsUnstable() {
     QVERIFY2(scene, qPrintable(error));
     const Eigen::Vector2d rates = makeRobotModel(scene->robots[0].params).A.eigenvalues().real();
     const double fastest = rates.cwiseAbs().maxCoeff();  // 1/s
-    const QString expected = QStringLiteral("warning: robot \"stiff\" has a motor time constant of %1 ms: rk4 is unstable "
-                                            "for dt > %2 ms (dt = 1 ms); use --integrator exact")
+    const QString expected = QStringLiteral(
+                                 "warning: robot \"stiff\" has a motor time constant of %1 ms: rk4 is unstable "
+                                 "for dt > %2 ms (dt = 1 ms); use --integrator exact")
                                  .arg(1e3 / fastest, 0, 'g', 3)
                                  .arg(2.785293563405282e3 / fastest, 0, 'g', 3);
     QVERIFY2(QString::fromUtf8(rk4.err).contains(expected), qPrintable("expected: " + expected + "\ngot: " + rk4.err));

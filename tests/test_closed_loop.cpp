@@ -44,10 +44,13 @@ private slots:
         QTest::addColumn<double>("ballX");  // m: where the ball is put first, off the robot's axis
         QTest::addColumn<double>("ballY");
         const QString python = QStringLiteral(VSSIM_SOURCE_DIR "/examples/python/vssim_client.py");
-        QTest::newRow("python, lockstep, png") << QString("/usr/bin/python3") << QStringList{python, "--lockstep"} << true << -0.2 << 0.45;
-        QTest::newRow("C++, lockstep, jpeg") << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--lockstep", "--encoding", "jpeg"} << true << 0.4 << -0.5;
-        QTest::newRow("C++, blue 0, real time, raw") << QString(VSSIM_EXAMPLE_CLIENT)
-                                                     << QStringList{"--team", "blue", "--robot", "0", "--encoding", "raw"} << false << 0.55 << 0.5;
+        QTest::newRow("python, lockstep, png")
+            << QString("/usr/bin/python3") << QStringList{python, "--lockstep"} << true << -0.2 << 0.45;
+        QTest::newRow("C++, lockstep, jpeg")
+            << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--lockstep", "--encoding", "jpeg"} << true << 0.4 << -0.5;
+        QTest::newRow("C++, blue 0, real time, raw")
+            << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--team", "blue", "--robot", "0", "--encoding", "raw"}
+            << false << 0.55 << 0.5;
     }
 
     void clientDrivesToTheBallFromImagesOnly() {
@@ -61,9 +64,11 @@ private slots:
 
         ProtocolClient observer;
         QVERIFY(observer.connectTo(serve.port));
-        const auto welcome = observer.hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", "none"}, {"state", true}});
+        const auto welcome =
+            observer.hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", "none"}, {"state", true}});
         QVERIFY(welcome);
-        observer.sendJson(protocol::MessageType::Control, QJsonObject{{"command", "place_ball"}, {"x", ballX}, {"y", ballY}});
+        observer.sendJson(protocol::MessageType::Control,
+                          QJsonObject{{"command", "place_ball"}, {"x", ballX}, {"y", ballY}});
         const auto placed = observer.nextOf(protocol::MessageType::Reply);
         QVERIFY(placed && jsonPayload(placed->message)["ok"].toBool());
         // Which robot the client drives: its team and identity id. (In the
@@ -114,7 +119,8 @@ private slots:
         // The ground truth agrees: it started well away and ended touching
         // distance (within the client's 1.5 cm tolerance and its image error).
         QVERIFY2(startDistance > reach + 0.1, qPrintable(QString::number(startDistance)));
-        QVERIFY2(closest < reach + 0.02, qPrintable(QString("closest %1 m, reach %2 m; client said: %3").arg(closest).arg(reach).arg(output)));
+        QVERIFY2(closest < reach + 0.02,
+                 qPrintable(QString("closest %1 m, reach %2 m; client said: %3").arg(closest).arg(reach).arg(output)));
         QVERIFY(lastTime > 0.1);
         qInfo("%s: from %.3f m to %.3f m (contact at %.3f m) by t = %.2f s; client: %s", QTest::currentDataTag(),
               startDistance, closest, reach, lastTime, qPrintable(output.trimmed().section('\n', -1)));

@@ -145,7 +145,8 @@ double velocityError(const World& got, const World& want) {
     auto err = [](double g, double w) { return std::abs(g - w) / (1.0 + std::abs(w)); };
     double worst = 0.0;
     for (std::size_t i = 0; i < got.robots.size(); ++i)
-        worst = std::max({worst, err(got.robots[i].v, want.robots[i].v), err(got.robots[i].omega, want.robots[i].omega)});
+        worst =
+            std::max({worst, err(got.robots[i].v, want.robots[i].v), err(got.robots[i].omega, want.robots[i].omega)});
     return std::max({worst, err(got.ball.vx, want.ball.vx), err(got.ball.vy, want.ball.vy)});
 }
 
@@ -195,7 +196,10 @@ RandomCase randomCase(std::mt19937& rng) {
 
 QString describe(const Contact& c) {
     auto name = [](const BodyRef& r) {
-        return QString(r.kind == BodyKind::Robot ? "robot %1" : r.kind == BodyKind::Ball ? "ball" : "wall %1").arg(r.index);
+        return QString(r.kind == BodyKind::Robot  ? "robot %1"
+                       : r.kind == BodyKind::Ball ? "ball"
+                                                  : "wall %1")
+            .arg(r.index);
     };
     return name(c.a) + " vs " + name(c.b);
 }
@@ -258,7 +262,8 @@ void TestCollisionResponse::elasticExchangeFollowsEq12() {
     QVERIFY2(std::abs(got(1) - w2) < 1e-14 * scale, qPrintable(QString("v2' %1 vs %2").arg(got(1)).arg(w2)));
     // Invariants: momentum and kinetic energy conserved, relative velocity reversed.
     const double p0 = m1 * v1 + m2 * v2, p1 = m1 * got(0) + m2 * got(1);
-    const double e0 = 0.5 * m1 * v1 * v1 + 0.5 * m2 * v2 * v2, e1 = 0.5 * m1 * got(0) * got(0) + 0.5 * m2 * got(1) * got(1);
+    const double e0 = 0.5 * m1 * v1 * v1 + 0.5 * m2 * v2 * v2,
+                 e1 = 0.5 * m1 * got(0) * got(0) + 0.5 * m2 * got(1) * got(1);
     QVERIFY(std::abs(p1 - p0) <= 1e-13 * (std::abs(m1 * v1) + std::abs(m2 * v2)));
     QVERIFY(std::abs(e1 - e0) <= 1e-13 * e0);
     QVERIFY(std::abs((got(0) - got(1)) + (v1 - v2)) < 1e-13 * scale);
@@ -324,7 +329,7 @@ void TestCollisionResponse::paperHeadOnRobots() {
     Contact c;
     c.a = {BodyKind::Robot, 0};
     c.b = {BodyKind::Robot, 1};
-    c.normal = -h;  // from B to A
+    c.normal = -h;                                                    // from B to A
     c.point = Eigen::Vector2d(0.1, -0.05) + (s / 2 - depth / 2) * h;  // on both forward axes
     c.depth = depth;
 
@@ -400,7 +405,8 @@ void TestCollisionResponse::paperRobotKicksBallHeadOn() {
     Bodies bodies = w.bodies();
     QVERIFY(respondToContact(c, bodies, CollisionModel::Paper, 1.0));
     const Eigen::Vector2d vb(w.ball.vx, w.ball.vy);
-    QVERIFY2(std::abs(vb.dot(h) - ballAfter) < 1e-12, qPrintable(QString("ball %1 vs %2").arg(vb.dot(h)).arg(ballAfter)));
+    QVERIFY2(std::abs(vb.dot(h) - ballAfter) < 1e-12,
+             qPrintable(QString("ball %1 vs %2").arg(vb.dot(h)).arg(ballAfter)));
     QVERIFY(std::abs(vb.dot(l) - ballAcross) < 1e-12);  // the component across n is unchanged
     QVERIFY2(std::abs(w.robots[0].v - robotAfter) < 1e-12,
              qPrintable(QString("robot %1 vs %2").arg(w.robots[0].v).arg(robotAfter)));
@@ -602,7 +608,8 @@ void TestCollisionResponse::impulseModelRandomContacts() {
         const double e1 = kineticEnergy(w.bodies());
         const double loss = (1 - restitution * restitution) * vrel * vrel / (2 * inverseMass);
         QVERIFY2(std::abs((e0 - e1) - loss) <= 1e-12 * e0,
-                 qPrintable(where + QString(": energy %1 -> %2, loss %3").arg(e0, 0, 'g', 17).arg(e1, 0, 'g', 17).arg(loss)));
+                 qPrintable(where +
+                            QString(": energy %1 -> %2, loss %3").arg(e0, 0, 'g', 17).arg(e1, 0, 'g', 17).arg(loss)));
         if (restitution == 1.0)
             QVERIFY2(std::abs(e1 - e0) <= 1e-12 * e0, qPrintable(where));
         else
@@ -664,10 +671,9 @@ void TestCollisionResponse::paperModelNeverCreatesEnergy() {
         }
         // Bodies not in the contact are untouched.
         for (int i = 0; i < 3; ++i) {
-            const bool involved = (c.a.kind == BodyKind::Robot && c.a.index == i) ||
-                                  (c.b.kind == BodyKind::Robot && c.b.index == i);
-            if (!involved)
-                QVERIFY(w.robots[i].v == before.robots[i].v && w.robots[i].omega == before.robots[i].omega);
+            const bool involved =
+                (c.a.kind == BodyKind::Robot && c.a.index == i) || (c.b.kind == BodyKind::Robot && c.b.index == i);
+            if (!involved) QVERIFY(w.robots[i].v == before.robots[i].v && w.robots[i].omega == before.robots[i].omega);
         }
         if (c.a.kind != BodyKind::Ball && c.b.kind != BodyKind::Ball)
             QVERIFY(w.ball.vx == before.ball.vx && w.ball.vy == before.ball.vy);

@@ -149,8 +149,8 @@ private slots:
     void keyboardRecognisesDriveKeys() {
         KeyboardDriver k;
         QVERIFY(!k.active());
-        for (int key : {Qt::Key_W, Qt::Key_A, Qt::Key_S, Qt::Key_D, Qt::Key_Up, Qt::Key_Down,
-                        Qt::Key_Left, Qt::Key_Right})
+        for (int key :
+             {Qt::Key_W, Qt::Key_A, Qt::Key_S, Qt::Key_D, Qt::Key_Up, Qt::Key_Down, Qt::Key_Left, Qt::Key_Right})
             QVERIFY(k.handleKey(key, true));
         QVERIFY(k.active());
         for (int key : {Qt::Key_Q, Qt::Key_E, Qt::Key_Space, Qt::Key_Escape, Qt::Key_Shift})

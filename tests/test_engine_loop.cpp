@@ -112,7 +112,7 @@ private slots:
         loop.handle(voltages(1000 * kMs + 4 * kMs, 1, -3.0, 2.0), 1000 * kMs + 5 * kMs);  // at 10 ms simulated
         QCOMPARE(loop.simulation().state().step, 10);
         QCOMPARE(loop.nextWakeNs(), 1000 * kMs + 12 * kMs);  // 30 ms simulated / 2.5
-        loop.runUntil(1000 * kMs + 40 * kMs);                 // 100 ms simulated
+        loop.runUntil(1000 * kMs + 40 * kMs);                // 100 ms simulated
         QCOMPARE(loop.simulation().state().step, 100);
         QCOMPARE(hashState(loop.simulation().state()), offlineHash(twoRobots(), {{0.010, 1, {-3.0, 2.0}}}, 100));
     }

@@ -154,9 +154,12 @@ void TestExactIntegrator::velocityAndHeadingExactForAnyStep() {
     const double theta = 0.3 + uInf(1) * t + (f.Psi * (u0 - uInf))(1);
     // To rounding: a few ulps per step, accumulated over the steps.
     const double tolerance = 1e-15 * (steps + 10);
-    QVERIFY2(std::abs(s.v - u(0)) < tolerance, qPrintable(QString("v %1 vs %2").arg(s.v, 0, 'g', 17).arg(u(0), 0, 'g', 17)));
-    QVERIFY2(std::abs(s.omega - u(1)) < 10 * tolerance, qPrintable(QString("w %1 vs %2").arg(s.omega, 0, 'g', 17).arg(u(1), 0, 'g', 17)));
-    QVERIFY2(std::abs(s.theta - theta) < 10 * tolerance * std::max(1.0, std::abs(theta)), qPrintable(QString("theta %1 vs %2").arg(s.theta, 0, 'g', 17).arg(theta, 0, 'g', 17)));
+    QVERIFY2(std::abs(s.v - u(0)) < tolerance,
+             qPrintable(QString("v %1 vs %2").arg(s.v, 0, 'g', 17).arg(u(0), 0, 'g', 17)));
+    QVERIFY2(std::abs(s.omega - u(1)) < 10 * tolerance,
+             qPrintable(QString("w %1 vs %2").arg(s.omega, 0, 'g', 17).arg(u(1), 0, 'g', 17)));
+    QVERIFY2(std::abs(s.theta - theta) < 10 * tolerance * std::max(1.0, std::abs(theta)),
+             qPrintable(QString("theta %1 vs %2").arg(s.theta, 0, 'g', 17).arg(theta, 0, 'g', 17)));
 }
 
 void TestExactIntegrator::positionMatchesFineReference_data() {
@@ -281,8 +284,11 @@ void TestExactIntegrator::stepBoundsHold() {
             for (int j = 0; j < 4; ++j) paths[j] += (now[j] - corners[j]).norm(), path = std::max(path, paths[j]);
             corners = now;
             const double bound = robotTravelBound(m, start, e, k * 5e-4, rho);
-            QVERIFY(std::hypot(s.x - start.x, s.y - start.y) <= robotTravelBound(m, start, e, k * 5e-4, 0.0) * (1 + 1e-12));
-            QVERIFY2(path <= bound * (1 + 1e-12), qPrintable(QString("trial %1, T=%2: path %3 > bound %4").arg(trial).arg(k * 5e-4).arg(path).arg(bound)));
+            QVERIFY(std::hypot(s.x - start.x, s.y - start.y) <=
+                    robotTravelBound(m, start, e, k * 5e-4, 0.0) * (1 + 1e-12));
+            QVERIFY2(path <= bound * (1 + 1e-12),
+                     qPrintable(
+                         QString("trial %1, T=%2: path %3 > bound %4").arg(trial).arg(k * 5e-4).arg(path).arg(bound)));
         }
     }
     // And it is tight where it can be: a symmetric robot driving straight
@@ -293,7 +299,8 @@ void TestExactIntegrator::stepBoundsHold() {
     QVERIFY(test::relativeError(robotTravelBound(symmetric, RobotState{}, {5.0, 5.0}, 0.1, 0.05), straight.x) < 1e-9);
     // The yaw-rate bound from rest at full opposite voltages holds at the
     // steady state (closed form B^-1 K e).
-    QVERIFY(std::abs(steadyStateVelocity(m, {7.4, -7.4})(1)) <= velocityBound(m, RobotState{}, {7.4, -7.4})(1) * (1 + 1e-12));
+    QVERIFY(std::abs(steadyStateVelocity(m, {7.4, -7.4})(1)) <=
+            velocityBound(m, RobotState{}, {7.4, -7.4})(1) * (1 + 1e-12));
 }
 
 void TestExactIntegrator::stiffRobotAccurateAtLongSteps() {
@@ -340,7 +347,8 @@ void TestExactIntegrator::positionQuadratureIsOrderTen() {
     const double coarse = error(4), fine = error(8);
     QVERIFY2(coarse > 1e-12, "the error is at rounding: the test cannot see the order");
     const double order = std::log2(coarse / fine);
-    QVERIFY2(order > 9.0 && order < 11.0, qPrintable(QString("order %1 (errors %2, %3 m)").arg(order).arg(coarse).arg(fine)));
+    QVERIFY2(order > 9.0 && order < 11.0,
+             qPrintable(QString("order %1 (errors %2, %3 m)").arg(order).arg(coarse).arg(fine)));
 }
 
 QTEST_GUILESS_MAIN(TestExactIntegrator)

@@ -16,7 +16,7 @@ using namespace vssim;
 
 namespace {
 
-constexpr double kSide = 0.075;     // default robot side, m
+constexpr double kSide = 0.075;      // default robot side, m
 constexpr double kRadius = 0.02135;  // default ball radius, m
 
 RobotState pose(double x, double y, double theta) {
@@ -330,8 +330,8 @@ void TestGeometry::squaresOverlapAxisAligned() {
     const double reach = (sideA + sideB) / 2;
     const double overlapX = reach - std::abs(dx), overlapY = reach - std::abs(dy);
     const double depth = std::min(overlapX, overlapY);
-    const Eigen::Vector2d normal = overlapX < overlapY ? Eigen::Vector2d(dx > 0 ? -1.0 : 1.0, 0.0)
-                                                      : Eigen::Vector2d(0.0, dy > 0 ? -1.0 : 1.0);
+    const Eigen::Vector2d normal =
+        overlapX < overlapY ? Eigen::Vector2d(dx > 0 ? -1.0 : 1.0, 0.0) : Eigen::Vector2d(0.0, dy > 0 ? -1.0 : 1.0);
     const SquareOverlap o = squareOverlap(a, sideA, b, sideB);
     QVERIFY(o.overlapping);
     QVERIFY2(std::abs(o.depth - depth) < 1e-12, qPrintable(QString("depth %1 vs %2").arg(o.depth).arg(depth)));
@@ -714,8 +714,8 @@ void TestGeometry::ballTouchingRobotCorner() {
     QFETCH(double, depth);
     const RobotState robot = pose(-0.4, 0.3, theta);
     const double diagonal = theta + M_PI / 4 + M_PI / 2 * vertex;
-    const Eigen::Vector2d corner =
-        Eigen::Vector2d(robot.x, robot.y) + kSide / std::sqrt(2.0) * Eigen::Vector2d(std::cos(diagonal), std::sin(diagonal));
+    const Eigen::Vector2d corner = Eigen::Vector2d(robot.x, robot.y) +
+                                   kSide / std::sqrt(2.0) * Eigen::Vector2d(std::cos(diagonal), std::sin(diagonal));
     const Eigen::Vector2d dir(std::cos(diagonal + spread), std::sin(diagonal + spread));
     const Eigen::Vector2d c = corner + (kRadius - depth) * dir;
     BallState ball;

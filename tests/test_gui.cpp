@@ -16,10 +16,10 @@
 
 #include "camera/camera_colours.h"
 #include "field_view.h"
-#include "main_window.h"
-#include "remote_window.h"
-#include "net/protocol_client.h"
 #include "io/scene_io.h"
+#include "main_window.h"
+#include "net/protocol_client.h"
+#include "remote_window.h"
 
 using namespace vssim;
 
@@ -81,24 +81,30 @@ private slots:
         QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, start.x + 0.3, start.y + 0.2));
         // Within a pixel or so of where it was dropped.
         const double pixel = 1.0 / (view.toWidget(1, 0).x() - view.toWidget(0, 0).x());
-        QVERIFY2(waitFor(w, [&](const Snapshot& s) {
-                     return std::hypot(s.robots[0].x - (start.x + 0.3), s.robots[0].y - (start.y + 0.2)) < 1.5 * pixel;
-                 }),
-                 qPrintable(QString("robot at %1, %2").arg(w.session().latest()->robots[0].x).arg(w.session().latest()->robots[0].y)));
+        QVERIFY2(waitFor(w,
+                         [&](const Snapshot& s) {
+                             return std::hypot(s.robots[0].x - (start.x + 0.3), s.robots[0].y - (start.y + 0.2)) <
+                                    1.5 * pixel;
+                         }),
+                 qPrintable(QString("robot at %1, %2")
+                                .arg(w.session().latest()->robots[0].x)
+                                .arg(w.session().latest()->robots[0].y)));
         QCOMPARE(w.session().latest()->robots[0].theta, start.theta);
         // Undo puts it back exactly; redo moves it again.
         const RobotState dropped = w.session().latest()->robots[0];
         action(w, "action.undo")->trigger();
         QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == start.x && s.robots[0].y == start.y; }));
         action(w, "action.redo")->trigger();
-        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == dropped.x && s.robots[0].y == dropped.y; }));
+        QVERIFY(
+            waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == dropped.x && s.robots[0].y == dropped.y; }));
         action(w, "action.undo")->trigger();
         QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[0].x == start.x; }));
         // The view draws (and picks robots from) the snapshot of its last refresh: wait for it too.
         QTRY_VERIFY(view.snapshot() && view.snapshot()->robots[0].x == start.x);
         // The wheel turns the robot under the cursor by 15 degrees a notch.
         const QPointF p(at(view, start.x, start.y));
-        QWheelEvent wheel(p, view.mapToGlobal(p), {}, QPoint(0, 120), Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+        QWheelEvent wheel(p, view.mapToGlobal(p), {}, QPoint(0, 120), Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase,
+                          false);
         QApplication::sendEvent(&view, &wheel);
         QVERIFY(waitFor(w, [&](const Snapshot& s) {
             return std::abs(s.robots[0].theta - (start.theta + FieldView::kRotateStep)) < 1e-12;
@@ -143,7 +149,8 @@ private slots:
         QVERIFY(std::abs(moved.robots[0].y - r0.y) < 0.01);
         // TCP for robot 0 is now ignored; robot 1 still follows TCP; the UI says so.
         team.send(protocol::MessageType::Voltages, protocol::encodeVoltages({{0, {-5.0, -5.0}}, {1, {-1.0, -1.0}}}));
-        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.voltages[1].right == -1.0 && s.control[0].tcpWhileManual; }));
+        QVERIFY(
+            waitFor(w, [](const Snapshot& s) { return s.voltages[1].right == -1.0 && s.control[0].tcpWhileManual; }));
         QVERIFY(std::abs(w.session().latest()->voltages[0].right - 0.6 * 7.4) < 1e-12);
         QTRY_VERIFY(w.findChild<QLabel*>("drive.status")->text().contains("TCP voltages are ignored"));
         // A and W together: turning left, so the right wheel gets more.
@@ -264,7 +271,8 @@ private slots:
         const auto snapshot = w.session().latest();
         auto colourAt = [&](double x, double y) { return image.pixelColor(view.toWidget(x, y).toPoint()); };
         auto near = [](QColor c, Bgr want) {
-            return std::abs(c.red() - want.r) < 30 && std::abs(c.green() - want.g) < 30 && std::abs(c.blue() - want.b) < 30;
+            return std::abs(c.red() - want.r) < 30 && std::abs(c.green() - want.g) < 30 &&
+                   std::abs(c.blue() - want.b) < 30;
         };
         for (std::size_t i = 0; i < snapshot->robots.size(); ++i) {
             const RobotState& r = snapshot->robots[i];
@@ -280,7 +288,8 @@ private slots:
         if (!out.isEmpty()) {
             // The README's picture: the kick-off as shipped, a moving robot selected.
             QString error;
-            MainWindow shot(*loadSceneFile(":/scenes/kickoff_3v3.json", &error), ":/scenes/kickoff_3v3.json", anyPort());
+            MainWindow shot(*loadSceneFile(":/scenes/kickoff_3v3.json", &error), ":/scenes/kickoff_3v3.json",
+                            anyPort());
             shot.show();
             QVERIFY(QTest::qWaitForWindowExposed(&shot));
             shot.fieldView().setSelectedRobot(2);

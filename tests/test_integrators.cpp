@@ -25,8 +25,8 @@ RobotState runRobot(Integrator method, double h) {
 }
 
 double poseError(const RobotState& a, const RobotState& b) {
-    return std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.theta - b.theta) * 0.05,
-                     std::abs(a.v - b.v) * 0.1});
+    return std::max(
+        {std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.theta - b.theta) * 0.05, std::abs(a.v - b.v) * 0.1});
 }
 
 BallState runBall(Integrator method, double h) {
@@ -93,8 +93,10 @@ void TestIntegrators::ballOrderAgainstClosedForm() {
     const double e1 = error(h), e2 = error(h / 2), e3 = error(h / 4);
     const double expected = std::pow(2.0, order);
     for (double ratio : {e1 / e2, e2 / e3})
-        QVERIFY2(ratio > 0.8 * expected && ratio < 1.2 * expected,
-                 qPrintable(QString("ratio %1, expected %2 (errors %3 %4 %5)").arg(ratio).arg(expected).arg(e1).arg(e2).arg(e3)));
+        QVERIFY2(
+            ratio > 0.8 * expected && ratio < 1.2 * expected,
+            qPrintable(
+                QString("ratio %1, expected %2 (errors %3 %4 %5)").arg(ratio).arg(expected).arg(e1).arg(e2).arg(e3)));
 }
 
 QTEST_GUILESS_MAIN(TestIntegrators)

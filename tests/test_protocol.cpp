@@ -47,18 +47,15 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kInf = std::numeric_limits<double>::infinity();
 
 // VOLTAGES for robot 2, right 1.5 V (0x3FF8000000000000), left -3.25 V (0xC00A000000000000).
-const QByteArray kVoltagesRobot2 = bytes({0x01, 0x02,
-                                          0x3F, 0xF8, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
-                                          0xC0, 0x0A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00});
+const QByteArray kVoltagesRobot2 =
+    bytes({0x01, 0x02, 0x3F, 0xF8, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xC0, 0x0A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00});
 
 // FRAME: frame 0x01020304, time 2.5 s (0x4004000000000000), kind patches, encoding jpeg,
 // two patches: (258, 3, 4, 5) with 3 bytes 9 8 7, and an empty one at (640, 480).
-const QByteArray kFramePayload = bytes({0x01, 0x02, 0x03, 0x04,
-                                        0x40, 0x04, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
-                                        0x00, 0x02, 0x00, 0x02,
-                                        0x01, 0x02, 0x00, 0x03, 0x00, 0x04, 0x00, 0x05, 0x00, 0x00, 0x00, 0x03,
-                                        0x09, 0x08, 0x07,
-                                        0x02, 0x80, 0x01, 0xE0, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00});
+const QByteArray kFramePayload =
+    bytes({0x01, 0x02, 0x03, 0x04, 0x40, 0x04, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00,
+           0x02, 0x01, 0x02, 0x00, 0x03, 0x00, 0x04, 0x00, 0x05, 0x00, 0x00, 0x00, 0x03, 0x09, 0x08,
+           0x07, 0x02, 0x80, 0x01, 0xE0, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00});
 
 // Two yellow then two blue robots on the standard 1.5 x 1.3 m field.
 Scene fourRobotScene() {
@@ -248,9 +245,8 @@ void TestProtocol::voltagesHandBuiltBytes() {
     QCOMPARE(encodeVoltages({{2, {1.5, -3.25}}}), kVoltagesRobot2);
 
     // NaN (0x7FF8...), +inf (0x7FF0...), -inf (0xFFF0...) pass: decode checks the layout only.
-    const QByteArray special = bytes({0x02,
-                                      0x00, 0x7F, 0xF8, 0, 0, 0, 0, 0, 0, 0x7F, 0xF0, 0, 0, 0, 0, 0, 0,
-                                      0xFF, 0xFF, 0xF0, 0, 0, 0, 0, 0, 0, 0x80, 0, 0, 0, 0, 0, 0, 0});
+    const QByteArray special = bytes({0x02, 0x00, 0x7F, 0xF8, 0, 0, 0, 0, 0, 0,    0x7F, 0xF0, 0, 0, 0, 0, 0, 0,
+                                      0xFF, 0xFF, 0xF0, 0,    0, 0, 0, 0, 0, 0x80, 0,    0,    0, 0, 0, 0, 0});
     auto two = decodeVoltages(special, &error);
     QVERIFY2(two, qPrintable(error));
     QCOMPARE(two->size(), std::size_t(2));
@@ -433,7 +429,8 @@ void TestProtocol::helloDefaultsRolesAndImages() {
     QCOMPARE(h->images->encoding, ImageEncoding::Jpeg);
     QCOMPARE(h->images->jpegQuality, 37);
     for (int q : {1, 100}) {
-        h = parseHello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"encoding", "jpeg"}, {"jpeg_quality", q}}, &error);
+        h = parseHello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"encoding", "jpeg"}, {"jpeg_quality", q}},
+                       &error);
         QVERIFY2(h, qPrintable(error.message));
         QCOMPARE(h->images->jpegQuality, q);
     }
@@ -478,7 +475,13 @@ void TestProtocol::helloErrors() {
 
 void TestProtocol::helloNameIsSanitised() {
     RequestError error;
-    auto h = parseHello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"name", "a\nb\tc\x01" "d\x7f" "é"}}, &error);
+    auto h = parseHello(QJsonObject{{"protocol", 1},
+                                    {"role", "yellow"},
+                                    {"name",
+                                     "a\nb\tc\x01"
+                                     "d\x7f"
+                                     "é"}},
+                        &error);
     QVERIFY2(h, qPrintable(error.message));
     QCOMPARE(h->name, QString::fromUtf8("a?b?c?d?é"));
     QVERIFY(parseHello(QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"name", QString(64, 'n')}}, &error));
@@ -551,8 +554,9 @@ void TestProtocol::controlCommands() {
     QVERIFY2(r, qPrintable(error.message));
     QCOMPARE(r->duration, 3600.0);
 
-    r = parseControl(obj(R"({"command": "place_robot", "robot": 3, "x": -0.5, "y": 0.25, "theta": 2, "v": 0.3, "omega": -4})"),
-                     scene, &error);
+    r = parseControl(
+        obj(R"({"command": "place_robot", "robot": 3, "x": -0.5, "y": 0.25, "theta": 2, "v": 0.3, "omega": -4})"),
+        scene, &error);
     QVERIFY2(r, qPrintable(error.message));
     QCOMPARE(r->kind, Kind::PlaceRobot);
     QCOMPARE(r->robot, 3);
@@ -574,7 +578,8 @@ void TestProtocol::controlCommands() {
     QCOMPARE(r->ball.vx, 1.5);
     QCOMPARE(r->ball.vy, -0.5);
     // The ball's centre may come within one radius (0.02135 m) of the walls.
-    QVERIFY(parseControl(QJsonObject{{"command", "place_ball"}, {"x", 0.75 - 0.02135}, {"y", -(0.65 - 0.02135)}}, scene, &error));
+    QVERIFY(parseControl(QJsonObject{{"command", "place_ball"}, {"x", 0.75 - 0.02135}, {"y", -(0.65 - 0.02135)}}, scene,
+                         &error));
 
     r = parseControl(obj(R"({"command": "speed", "speed": 2.5})"), scene, &error);
     QVERIFY2(r, qPrintable(error.message));
@@ -592,7 +597,8 @@ void TestProtocol::controlPlaceRobotBoundary() {
     RequestError error;
     auto place = [&](double x, double y, double theta) {
         return parseControl(QJsonObject{{"command", "place_robot"}, {"robot", 1}, {"x", x}, {"y", y}, {"theta", theta}},
-                            scene, &error).has_value();
+                            scene, &error)
+            .has_value();
     };
     const double edgeX = 0.75 - 0.0375, edgeY = 0.65 - 0.0375;
     QVERIFY(place(edgeX, 0, 0));
@@ -630,10 +636,13 @@ void TestProtocol::controlErrors_data() {
     row("robot 1.5", R"({"command": "place_robot", "robot": 1.5, "x": 0, "y": 0, "theta": 0})", "bad_robot", "1.5");
     row("robot -1", R"({"command": "place_robot", "robot": -1, "x": 0, "y": 0, "theta": 0})", "bad_robot", "-1");
     row("robot 4", R"({"command": "place_robot", "robot": 4, "x": 0, "y": 0, "theta": 0})", "bad_robot", "0 to 3");
-    row("robot string", R"({"command": "place_robot", "robot": "0", "x": 0, "y": 0, "theta": 0})", "malformed", "robot");
+    row("robot string", R"({"command": "place_robot", "robot": "0", "x": 0, "y": 0, "theta": 0})", "malformed",
+        "robot");
     row("robot no theta", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0})", "malformed", "theta");
-    row("robot v string", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "v": "1"})", "malformed", "\"v\"");
-    row("robot outside", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0.7, "theta": 0})", "outside_field", "robot 0");
+    row("robot v string", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "v": "1"})",
+        "malformed", "\"v\"");
+    row("robot outside", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0.7, "theta": 0})", "outside_field",
+        "robot 0");
     row("ball outside", R"({"command": "place_ball", "x": 0.74, "y": 0})", "outside_field", "ball");
     row("ball far", R"({"command": "place_ball", "x": 0, "y": -3})", "outside_field", "ball");
     row("ball no y", R"({"command": "place_ball", "x": 0})", "malformed", "\"y\"");
@@ -644,8 +653,10 @@ void TestProtocol::controlErrors_data() {
     row("speed 2e6", R"({"command": "speed", "speed": 2e6})", "malformed", "speed");
     row("speed 101", R"({"command": "speed", "speed": 101})", "malformed", "100");
     row("speed 0.0005", R"({"command": "speed", "speed": 0.0005})", "malformed", "0.001");
-    row("robot v 11", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "v": 11})", "malformed", "10 m/s");
-    row("robot omega -101", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "omega": -101})", "malformed", "100 rad/s");
+    row("robot v 11", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "v": 11})", "malformed",
+        "10 m/s");
+    row("robot omega -101", R"({"command": "place_robot", "robot": 0, "x": 0, "y": 0, "theta": 0, "omega": -101})",
+        "malformed", "100 rad/s");
     row("ball 20.1 m/s", R"({"command": "place_ball", "x": 0, "y": 0, "vx": 12, "vy": 16.1})", "malformed", "20 m/s");
     row("speed missing", R"({"command": "speed"})", "malformed", "speed");
 }
@@ -718,7 +729,8 @@ void TestProtocol::messagesCarryNoControlCharacters() {
     RequestError error;
     QVERIFY(!parseControl(QJsonObject{{"command", "pause\nvssim: server stopped\x1b[2J"}}, scene, &error));
     QCOMPARE(error.code, QString("unknown_command"));
-    QVERIFY2(clean(error.message) && error.message.contains("pause?vssim: server stopped?[2J"), qPrintable(error.message));
+    QVERIFY2(clean(error.message) && error.message.contains("pause?vssim: server stopped?[2J"),
+             qPrintable(error.message));
     QVERIFY(!parseControl(QJsonObject{{"command", "pause"}, {"x\ny", 1}}, scene, &error));
     QVERIFY2(clean(error.message) && error.message.contains("\"x?y\""), qPrintable(error.message));
     QVERIFY(!parseControl(QJsonObject{{"command", QString(500, 'a')}}, scene, &error));
@@ -740,7 +752,8 @@ void TestProtocol::portsAndAddresses() {
     QVERIFY(bare && bare->host == "127.0.0.1" && bare->port == 10031);
     const auto v6 = parseHostPort("::1:9000");
     QVERIFY(v6 && v6->host == "::1" && v6->port == 9000);
-    QVERIFY(!parseHostPort("host:0") && !parseHostPort("host:70000") && !parseHostPort(":10030") && !parseHostPort("host:"));
+    QVERIFY(!parseHostPort("host:0") && !parseHostPort("host:70000") && !parseHostPort(":10030") &&
+            !parseHostPort("host:"));
 }
 
 QTEST_APPLESS_MAIN(TestProtocol)

@@ -27,8 +27,8 @@ Eigen::Vector2d newtonEulerResidual(const RobotParams& p, const Eigen::Vector2d&
     const double ie = (e.left - p.left.k * we) / p.left.resistance;
     const double taud = p.right.k * id - p.right.rotor_inertia * dwd - p.right.friction * wd;
     const double taue = p.left.k * ie - p.left.rotor_inertia * dwe - p.left.friction * we;
-    const double F = taud / rd + taue / re;               // wheel forces add
-    const double T = b / 2.0 * (taud / rd - taue / re);   // right wheel forward turns left (+w)
+    const double F = taud / rd + taue / re;              // wheel forces add
+    const double T = b / 2.0 * (taud / rd - taue / re);  // right wheel forward turns left (+w)
     return {p.mass * du(0) + p.friction_linear * u(0) - F, p.inertia * du(1) + p.friction_angular * u(1) - T};
 }
 
@@ -124,8 +124,7 @@ void TestRobotModel::defaultRobotReachesDocumentedSpeeds() {
     QVERIFY2(v > 1.5 && v < 2.5, qPrintable(QString::number(v)));
     QVERIFY2(w > 35 && w < 65, qPrintable(QString::number(w)));
     const double tauV = m.M(0, 0) / m.B(0, 0), tauW = m.M(1, 1) / m.B(1, 1);
-    QVERIFY2(tauV > 0.03 && tauV < 0.3 && tauW > 0.03 && tauW < 0.3,
-             qPrintable(QString("%1 %2").arg(tauV).arg(tauW)));
+    QVERIFY2(tauV > 0.03 && tauV < 0.3 && tauW > 0.03 && tauW < 0.3, qPrintable(QString("%1 %2").arg(tauV).arg(tauW)));
 }
 
 void TestRobotModel::symmetricResponseIsTwoFirstOrderLags() {

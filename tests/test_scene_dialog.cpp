@@ -277,23 +277,30 @@ void TestSceneDialog::spinRangesAreTheReaders_data() {
     QTest::addColumn<QString>("suffix");
     QTest::addColumn<SceneValue>("value");
     QTest::addColumn<bool>("boundedAbove");  // whether the reader has a maximum
-    QTest::newRow("dt") << "simulation.dt" << " s"
-                        << SceneValue([](Scene& s) -> double& { return s.simulation.dt; }) << true;
-    QTest::newRow("restitution") << "simulation.restitution" << ""
-                                 << SceneValue([](Scene& s) -> double& { return s.simulation.restitution; }) << true;
-    QTest::newRow("ball.friction") << "ball.friction" << " N s/m"
-                                   << SceneValue([](Scene& s) -> double& { return s.ball_params.friction; }) << false;
-    QTest::newRow("mass") << "robot.mass" << " kg"
-                          << SceneValue([](Scene& s) -> double& { return s.robots[2].params.mass; }) << false;
-    QTest::newRow("max_voltage") << "robot.max_voltage" << " V"
+    QTest::newRow("dt") << "simulation.dt"
+                        << " s" << SceneValue([](Scene& s) -> double& { return s.simulation.dt; }) << true;
+    QTest::newRow("restitution") << "simulation.restitution"
+                                 << "" << SceneValue([](Scene& s) -> double& { return s.simulation.restitution; })
+                                 << true;
+    QTest::newRow("ball.friction") << "ball.friction"
+                                   << " N s/m" << SceneValue([](Scene& s) -> double& { return s.ball_params.friction; })
+                                   << false;
+    QTest::newRow("mass") << "robot.mass"
+                          << " kg" << SceneValue([](Scene& s) -> double& { return s.robots[2].params.mass; }) << false;
+    QTest::newRow("max_voltage") << "robot.max_voltage"
+                                 << " V"
                                  << SceneValue([](Scene& s) -> double& { return s.robots[2].params.max_voltage; })
                                  << false;
-    QTest::newRow("right.resistance")
-        << "robot.right.resistance" << " ohm"
-        << SceneValue([](Scene& s) -> double& { return s.robots[2].params.right.resistance; }) << false;
-    QTest::newRow("left.rotor_inertia")
-        << "robot.left.rotor_inertia" << " kg m²"
-        << SceneValue([](Scene& s) -> double& { return s.robots[2].params.left.rotor_inertia; }) << false;
+    QTest::newRow("right.resistance") << "robot.right.resistance"
+                                      << " ohm" << SceneValue([](Scene& s) -> double& {
+                                             return s.robots[2].params.right.resistance;
+                                         })
+                                      << false;
+    QTest::newRow("left.rotor_inertia") << "robot.left.rotor_inertia"
+                                        << " kg m²" << SceneValue([](Scene& s) -> double& {
+                                               return s.robots[2].params.left.rotor_inertia;
+                                           })
+                                        << false;
 }
 
 void TestSceneDialog::spinRangesAreTheReaders() {

@@ -164,9 +164,9 @@ void TestSceneIo::badInput_data() {
     QTest::newRow("syntax") << QByteArray("{\n  \"ball\": {\"x\": 0,}\n}") << "line 2, column";
     QTest::newRow("not an object") << QByteArray("[1, 2]") << "(top level): expected an object";
     QTest::newRow("unknown top key") << QByteArray(R"({"robot": []})") << "robot: unknown key";
-    QTest::newRow("unknown nested key")
-        << QByteArray(R"({"robots": [{"params": {"right": {"resistence": 12}}}]})")
-        << "robots[0].params.right.resistence: unknown key (expected one of: wheel_radius, resistance, k, rotor_inertia, friction)";
+    QTest::newRow("unknown nested key") << QByteArray(R"({"robots": [{"params": {"right": {"resistence": 12}}}]})")
+                                        << "robots[0].params.right.resistence: unknown key (expected one of: "
+                                           "wheel_radius, resistance, k, rotor_inertia, friction)";
     QTest::newRow("wrong type") << QByteArray(R"({"robots": [{}, {}, {"params": {"right": {"resistance": "12"}}}]})")
                                 << "robots[2].params.right.resistance: expected a number";
     QTest::newRow("object expected") << QByteArray(R"({"ball": 3})") << "ball: expected an object";
@@ -180,9 +180,11 @@ void TestSceneIo::badInput_data() {
     QTest::newRow("restitution") << QByteArray(R"({"simulation": {"restitution": 1.5}})")
                                  << "simulation.restitution: must be between 0 and 1 (got 1.5)";
     QTest::newRow("dt too long") << QByteArray(R"({"simulation": {"dt": 0.5}})") << "simulation.dt: must be <= 0.1 s";
-    QTest::newRow("infinite") << QByteArray(R"({"ball": {"vx": 1e999}})") << "line 1, column 22: illegal number";  // Qt rejects it as it parses
-    QTest::newRow("bad integrator") << QByteArray(R"({"simulation": {"integrator": "rk45"}})")
-                                    << "simulation.integrator: expected one of \"euler\", \"rk4\", \"exact\" (got \"rk45\")";
+    QTest::newRow("infinite") << QByteArray(R"({"ball": {"vx": 1e999}})")
+                              << "line 1, column 22: illegal number";  // Qt rejects it as it parses
+    QTest::newRow("bad integrator")
+        << QByteArray(R"({"simulation": {"integrator": "rk45"}})")
+        << "simulation.integrator: expected one of \"euler\", \"rk4\", \"exact\" (got \"rk45\")";
     QTest::newRow("bad team") << QByteArray(R"({"robots": [{"team": "red"}]})")
                               << "robots[0].team: expected one of \"yellow\", \"blue\" (got \"red\")";
     QTest::newRow("duplicate name") << QByteArray(R"({"robots": [{"name": "a", "x": 0.1}, {"name": "a"}]})")
@@ -194,9 +196,11 @@ void TestSceneIo::badInput_data() {
                                    << "commands[0].t: must be >= 0";
     QTest::newRow("robot outside") << QByteArray(R"({"robots": [{"x": 0.74}]})")
                                    << "robots[0].x: 0.74 m is outside the field";
-    QTest::newRow("robot corner outside") << QByteArray(R"({"robots": [{"x": 0.7125, "theta": 0.7853981633974483}]})")
-                                          << "robots[0].x: 0.7125 m is outside the field (|x| must be <= 0.6969669914 m at heading 0.785398 rad)";
-    QTest::newRow("command too late") << QByteArray(R"({"robots": [{}], "commands": [{"t": 1e300, "robot": "yellow0"}]})")
+    QTest::newRow("robot corner outside")
+        << QByteArray(R"({"robots": [{"x": 0.7125, "theta": 0.7853981633974483}]})")
+        << "robots[0].x: 0.7125 m is outside the field (|x| must be <= 0.6969669914 m at heading 0.785398 rad)";
+    QTest::newRow("command too late") << QByteArray(
+                                             R"({"robots": [{}], "commands": [{"t": 1e300, "robot": "yellow0"}]})")
                                       << "commands[0].t: must be <= 1e+09 s (got 1e+300)";
     QTest::newRow("comma in name") << QByteArray(R"({"robots": [{"name": "a,b"}]})")
                                    << "robots[0].name: \"a,b\" may not contain commas";
@@ -214,8 +218,7 @@ void TestSceneIo::badInput() {
     QString error;
     const std::optional<Scene> scene = parseScene(json, &error);
     QVERIFY(!scene);
-    QVERIFY2(error.startsWith(message),
-             qPrintable("got: " + error));
+    QVERIFY2(error.startsWith(message), qPrintable("got: " + error));
 }
 
 void TestSceneIo::unreadableFile() {

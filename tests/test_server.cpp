@@ -9,12 +9,12 @@
 #include <memory>
 
 #include "camera/camera_renderer.h"
-#include "net/control_server.h"
-#include "realtime/engine_thread.h"
 #include "camera/image_codec.h"
 #include "camera/image_patches.h"
-#include "net/protocol_client.h"
 #include "io/scene_io.h"
+#include "net/control_server.h"
+#include "net/protocol_client.h"
+#include "realtime/engine_thread.h"
 
 using namespace vssim;
 using protocol::MessageType;
@@ -110,7 +110,8 @@ QJsonObject expectError(ProtocolClient& client, const QString& code) {
 }
 
 // Sends a step and returns the reply (frames and states before it go to `before`).
-QJsonObject step(ProtocolClient& client, double duration, std::vector<protocol::Message>* before = nullptr, int id = 1) {
+QJsonObject step(ProtocolClient& client, double duration, std::vector<protocol::Message>* before = nullptr,
+                 int id = 1) {
     client.sendJson(MessageType::Control, controlJson("step", {{"duration", duration}}, id));
     for (;;) {
         const auto r = client.next();
@@ -186,7 +187,7 @@ private slots:
         QCOMPARE(robots[0]["right_voltage"].toDouble(), 5.0);
         QCOMPARE(robots[0]["left_voltage"].toDouble(), 4.0);
         QCOMPARE(robots[2]["left_voltage"].toDouble(), scene.robots[2].params.max_voltage);  // clamped
-        QVERIFY(robots[0]["v"].toDouble() > 0.1);  // it moved
+        QVERIFY(robots[0]["v"].toDouble() > 0.1);                                            // it moved
         QCOMPARE(robots[1]["v"].toDouble(), 0.0);
     }
 
@@ -200,7 +201,8 @@ private slots:
             for (;;) {
                 const auto r = client->next();
                 if (!r) return QJsonObject{{"timeout", true}};
-                if (r->message.type == std::uint8_t(MessageType::Reply) || r->message.type == std::uint8_t(MessageType::Error))
+                if (r->message.type == std::uint8_t(MessageType::Reply) ||
+                    r->message.type == std::uint8_t(MessageType::Error))
                     return jsonPayload(r->message);
             }
         };
@@ -217,9 +219,10 @@ private slots:
         const QJsonObject stats = control("stats")["stats"].toObject();
         QStringList keys = stats.keys();
         keys.sort();
-        QCOMPARE(keys, (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
-                                    "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
-                                    "frames_skipped", "lag_resets", "late_commands", "patch_area_percent", "render_ms"}));
+        QCOMPARE(keys,
+                 (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
+                              "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
+                              "frames_skipped", "lag_resets", "late_commands", "patch_area_percent", "render_ms"}));
         QCOMPARE(stats["clients"].toInt(), 1);
         QVERIFY(stats["frame_bytes"].isObject() && stats["encode_ms"].isObject());  // no images subscribed: empty
         QVERIFY(stats["command_latency_ms"].toObject().contains("p99"));
@@ -245,7 +248,8 @@ private slots:
         Served served(kickoff(), RunMode::Lockstep);
         auto client = join(served.port(), helloJson("blue", "none", "png", true));
         QVERIFY(client);
-        client->sendJson(MessageType::Control, controlJson("place_robot", {{"robot", 4}, {"x", 0.5}, {"y", -0.4}, {"theta", 1.0}}));
+        client->sendJson(MessageType::Control,
+                         controlJson("place_robot", {{"robot", 4}, {"x", 0.5}, {"y", -0.4}, {"theta", 1.0}}));
         client->sendJson(MessageType::Control, controlJson("place_ball", {{"x", -0.6}, {"y", 0.5}}));
         QVERIFY(client->nextOf(MessageType::Reply));
         QVERIFY(client->nextOf(MessageType::Reply));
@@ -267,7 +271,8 @@ private slots:
         QVERIFY(patches && full);
         const cv::Mat background = CameraRenderer(scene).background();
         // Drive two robots into each other and the ball so that patches overlap.
-        patches->send(MessageType::Voltages, protocol::encodeVoltages({{0, {7.0, 6.0}}, {1, {5.0, 7.0}}, {2, {7.0, 7.0}}}));
+        patches->send(MessageType::Voltages,
+                      protocol::encodeVoltages({{0, {7.0, 6.0}}, {1, {5.0, 7.0}}, {2, {7.0, 7.0}}}));
         for (int n = 1; n <= 40; ++n) {
             QVERIFY(step(*patches, 0.03)["ok"].toBool());
             const auto ff = full->nextOf(MessageType::Frame);
@@ -290,7 +295,8 @@ private slots:
             double covered = 0;
             for (const protocol::FramePatch& patch : p.patches) {
                 if (patch.w == 0) continue;
-                QVERIFY(pastePatch(canvas, cv::Rect(patch.x, patch.y, patch.w, patch.h), image(patch, ImageEncoding::Png)));
+                QVERIFY(
+                    pastePatch(canvas, cv::Rect(patch.x, patch.y, patch.w, patch.h), image(patch, ImageEncoding::Png)));
                 covered += patch.w * patch.h;
             }
             QCOMPARE(cv::norm(canvas, image(f.patches[0], ImageEncoding::Raw), cv::NORM_INF), 0.0);
@@ -447,7 +453,8 @@ private slots:
         auto client = join(served.port(), helloJson("yellow", "full", "raw"));
         QVERIFY(client);
         client->setReading(false);
-        for (int n = 1; n <= 20; ++n) client->sendJson(MessageType::Control, controlJson("step", {{"duration", 0.03}}, n));
+        for (int n = 1; n <= 20; ++n)
+            client->sendJson(MessageType::Control, controlJson("step", {{"duration", 0.03}}, n));
         QTest::qWait(500);
         client->setReading(true);
         std::int64_t lastReplied = -1, lastFrame = 0, replies = 0, frames = 0;
@@ -456,8 +463,9 @@ private slots:
             QVERIFY(r);
             if (r->message.type == std::uint8_t(MessageType::Frame)) {
                 const Frame f = decode(r->message);
-                QVERIFY2(std::int64_t(f.header.frame) > lastReplied,
-                         qPrintable(QString("FRAME %1 after the REPLY of step %2").arg(f.header.frame).arg(lastReplied)));
+                QVERIFY2(
+                    std::int64_t(f.header.frame) > lastReplied,
+                    qPrintable(QString("FRAME %1 after the REPLY of step %2").arg(f.header.frame).arg(lastReplied)));
                 lastFrame = f.header.frame;
                 ++frames;
             } else if (r->message.type == std::uint8_t(MessageType::Reply)) {
@@ -489,7 +497,8 @@ private slots:
         second->sendJson(MessageType::Control, controlJson("stats"));
         QVERIFY(second->nextOf(MessageType::Reply));
         QTRY_VERIFY_WITH_TIMEOUT(first.socket().state() == QAbstractSocket::UnconnectedState ||
-                                     served.log.filter("disconnected").size() >= 1, 5000);
+                                     served.log.filter("disconnected").size() >= 1,
+                                 5000);
         QTest::qWait(200);
         std::vector<protocol::Message> before;
         QVERIFY(step(*watcher, 0.03, &before)["ok"].toBool());
@@ -502,7 +511,8 @@ private slots:
         auto other = join(served.port(), helloJson("blue", "none", "png", true));
         QVERIFY(flooder && other);
         QByteArray burst;
-        for (int i = 0; i < 3000; ++i) burst += protocol::encodeJsonMessage(MessageType::Control, controlJson("stats", {}, i));
+        for (int i = 0; i < 3000; ++i)
+            burst += protocol::encodeJsonMessage(MessageType::Control, controlJson("stats", {}, i));
         flooder->sendRaw(burst);
         QVERIFY(!expectError(*flooder, "busy").isEmpty());
         // The other client's requests still go through, promptly.

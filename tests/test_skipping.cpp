@@ -127,7 +127,8 @@ void TestSkipping::broadPhaseGivesTheSameContacts() {
         view.broadPhase = false;
         const std::vector<Contact> all = detectContacts(scene.field, view);
         QVERIFY(!all.empty());
-        QVERIFY2(sameContacts(broad, all), qPrintable(QString("seed %1: %2 vs %3 contacts").arg(seed).arg(broad.size()).arg(all.size())));
+        QVERIFY2(sameContacts(broad, all),
+                 qPrintable(QString("seed %1: %2 vs %3 contacts").arg(seed).arg(broad.size()).arg(all.size())));
     }
 }
 
@@ -203,7 +204,9 @@ void TestSkipping::longStepsAgreeWithFixedSteps() {
                 QCOMPARE(sim->state().step, reference.state().step);
                 const double diff = maxStateDifference(sim->state(), reference.state());
                 QVERIFY2(diff < 1e-9, qPrintable(QString("seed %1, t=%2: states differ by %3 m (%4)")
-                                                     .arg(seed).arg(reference.state().time).arg(diff)
+                                                     .arg(seed)
+                                                     .arg(reference.state().time)
+                                                     .arg(diff)
                                                      .arg(sim == &longSteps ? "long steps" : "planned, fixed steps")));
             }
         }
@@ -227,10 +230,12 @@ void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
         while (reference.state().step < 150) reference.step();
         for (const std::int64_t chunk : {std::int64_t(1), std::int64_t(4), std::int64_t(37), std::int64_t(150)}) {
             Simulation sim(scene);
-            for (std::int64_t target = chunk; sim.state().step < 150; target = std::min<std::int64_t>(150, target + chunk))
+            for (std::int64_t target = chunk; sim.state().step < 150;
+                 target = std::min<std::int64_t>(150, target + chunk))
                 sim.advanceTo(target);
             const double diff = maxStateDifference(sim.state(), reference.state());
-            QVERIFY2(diff < 1e-9, qPrintable(QString("seed %1, chunks of %2: differs by %3 m").arg(seed).arg(chunk).arg(diff)));
+            QVERIFY2(diff < 1e-9,
+                     qPrintable(QString("seed %1, chunks of %2: differs by %3 m").arg(seed).arg(chunk).arg(diff)));
         }
     }
 }
@@ -253,7 +258,9 @@ void TestSkipping::contactPushingIntoAFreeBodyIsNotMissed() {
         const AdvanceReport step = planned.advanceTo(t);
         r.replans += step.replans;
         QVERIFY2(maxStateDifference(planned.state(), reference.state()) < 1e-12,
-                 qPrintable(QString("step %1: differs by %2 m").arg(t).arg(maxStateDifference(planned.state(), reference.state()))));
+                 qPrintable(QString("step %1: differs by %2 m")
+                                .arg(t)
+                                .arg(maxStateDifference(planned.state(), reference.state()))));
     }
     oneCall.advanceTo(40);
     QVERIFY(maxStateDifference(oneCall.state(), reference.state()) < 1e-12);
@@ -325,7 +332,7 @@ void TestSkipping::kickedBallStillReachesAFrozenRobot() {
     const double volts = 7.4 * 1.0 / steadyStateVelocity(makeRobotModel(RobotParams{}), {7.4, 7.4})(0);
     scene.commands.push_back({0.0, 0, {volts, volts}});
     Simulation sim(scene);
-    sim.advanceTo(1);  // applies the command
+    sim.advanceTo(1);                          // applies the command
     QVERIFY(sim.contactFreeSteps(299) < 299);  // not everybody is free...
     const AdvanceReport r = sim.advanceTo(300);
     QVERIFY(r.longSteps >= 1);  // ...but the target was

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <limits>
 
-#include "vssim/state_hash.h"
+#include "run_vssim.h"
 #include "stress_checks.h"
 #include "stress_scenes.h"
 #include "vssim/robot_model.h"
-#include "run_vssim.h"
+#include "vssim/state_hash.h"
 #include "vssim/world.h"
 
 using namespace vssim;
@@ -326,8 +326,7 @@ void TestStress::scenesAreValidAndReproducible() {
             const stress::StressScene s = stress::makeStressScene(seed, number, 2.0);
             QCOMPARE(int(s.kind), (number - 1) % stress::kSceneKinds);
             QVERIFY(s.restitution >= 0.0 && s.restitution < 1.0);
-            for (double dt : {s.dtEuler, s.dtRk4})
-                QVERIFY(dt >= stress::kMinDt && dt <= stress::kMaxDt);
+            for (double dt : {s.dtEuler, s.dtRk4}) QVERIFY(dt >= stress::kMinDt && dt <= stress::kMaxDt);
             QVERIFY(s.dtExact >= stress::kMinDt && s.dtExact <= stress::kMaxExactDt);
             QCOMPARE(s.hasZeroVoltage, s.kind == stress::SceneKind::Pile);
             // Every body starts inside the field, apart from the others.
@@ -336,8 +335,7 @@ void TestStress::scenesAreValidAndReproducible() {
             QVERIFY(stress::worstOutside(model, state) < 0.0);
             QCOMPARE(stress::worstOverlap(model, state), 0.0);
             QVERIFY(!s.scene.robots.empty());
-            for (const RobotModel& robot : model.robots)
-                QVERIFY(robot.fastestRate * stress::kMinTimeConstant <= 1.0);
+            for (const RobotModel& robot : model.robots) QVERIFY(robot.fastestRate * stress::kMinTimeConstant <= 1.0);
             for (const VoltageCommand& c : s.scene.commands) QVERIFY(c.t >= 0.0 && c.t < 2.0);
             // The same seed and number give the same scene; its bodies do not
             // depend on how long it runs.

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdint>
 
-#include "vssim/state_hash.h"
 #include "vssim/robot_params.h"
 #include "vssim/scene.h"
+#include "vssim/state_hash.h"
 #include "vssim/world.h"
 
 namespace vssim::test {
@@ -23,9 +23,7 @@ inline RobotParams asymmetricParams() {
 }
 
 // Relative difference, safe at zero.
-inline double relativeError(double got, double want) {
-    return std::abs(got - want) / std::max(1e-300, std::abs(want));
-}
+inline double relativeError(double got, double want) { return std::abs(got - want) / std::max(1e-300, std::abs(want)); }
 
 // FNV-1a over the bytes of every double of a world state: equal hashes mean
 // bit-identical states (vssim/state_hash.h, shared with `vssim stress`).

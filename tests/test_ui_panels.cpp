@@ -77,7 +77,8 @@ int pixelsNear(const QImage& image, const QRect& area, const QColor& colour) {
         for (int x = area.left(); x <= area.right(); ++x) {
             const QColor c = image.pixelColor(x, y);
             if (std::abs(c.red() - colour.red()) + std::abs(c.green() - colour.green()) +
-                    std::abs(c.blue() - colour.blue()) < 40)
+                    std::abs(c.blue() - colour.blue()) <
+                40)
                 ++count;
         }
     return count;

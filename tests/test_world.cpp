@@ -37,8 +37,7 @@ Scene randomPile(std::uint32_t seed, int n, CollisionModel model, double restitu
     }
     std::uniform_int_distribution<int> sign(0, 1);
     for (double t = 0.0; t < 60.0; t += 0.5)
-        for (int i = 0; i < n; ++i)
-            scene.commands.push_back({t, i, {sign(rng) ? 7.4 : -7.4, sign(rng) ? 7.4 : -7.4}});
+        for (int i = 0; i < n; ++i) scene.commands.push_back({t, i, {sign(rng) ? 7.4 : -7.4, sign(rng) ? 7.4 : -7.4}});
     return scene;
 }
 

@@ -34,8 +34,8 @@ protected:
 
 private:
     std::unique_ptr<CameraRenderer> renderer_;
-    cv::Mat frame_;                    // BGR, reused between renderings
-    std::vector<cv::Rect> patches_;    // unused here, render() fills them
+    cv::Mat frame_;                  // BGR, reused between renderings
+    std::vector<cv::Rect> patches_;  // unused here, render() fills them
     QImage image_;
 };
 

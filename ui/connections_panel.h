@@ -18,7 +18,18 @@ class ConnectionsPanel : public QWidget {
     Q_OBJECT
 public:
     // Table columns.
-    enum Column { Id, Address, Role, Name, Images, CommandsPerSecond, FramesSent, FramesDropped, ConnectedFor, ColumnCount };
+    enum Column {
+        Id,
+        Address,
+        Role,
+        Name,
+        Images,
+        CommandsPerSecond,
+        FramesSent,
+        FramesDropped,
+        ConnectedFor,
+        ColumnCount
+    };
 
     explicit ConnectionsPanel(QWidget* parent = nullptr);
 

@@ -22,25 +22,25 @@ Voltages stickToVoltages(double x, double y, DriveMapping mapping, double maxVol
 
     Voltages out;
     switch (mapping) {
-    case DriveMapping::Tank:
-        out.left = y * vmax;
-        out.right = x * vmax;
-        break;
-    case DriveMapping::Arcade: {
-        const double forward = y;  // + ahead
-        const double turn = x;     // + clockwise: right wheel slower
-        double right = forward - turn;
-        double left = forward + turn;
-        // Largest side is |forward| + |turn|: scale both down together.
-        const double sum = std::abs(forward) + std::abs(turn);
-        if (sum > 1.0) {
-            right /= sum;
-            left /= sum;
+        case DriveMapping::Tank:
+            out.left = y * vmax;
+            out.right = x * vmax;
+            break;
+        case DriveMapping::Arcade: {
+            const double forward = y;  // + ahead
+            const double turn = x;     // + clockwise: right wheel slower
+            double right = forward - turn;
+            double left = forward + turn;
+            // Largest side is |forward| + |turn|: scale both down together.
+            const double sum = std::abs(forward) + std::abs(turn);
+            if (sum > 1.0) {
+                right /= sum;
+                left /= sum;
+            }
+            out.right = right * vmax;
+            out.left = left * vmax;
+            break;
         }
-        out.right = right * vmax;
-        out.left = left * vmax;
-        break;
-    }
     }
     return out;
 }

@@ -25,7 +25,8 @@ QColor qcolor(Bgr c) { return QColor(c.r, c.g, c.b); }
 
 // A patch (camera_layout.h) in the robot's frame, m.
 QRectF patchRect(const PatchRectangle& patch, double side) {
-    return QRectF(patch.xMin * side, patch.yMin * side, (patch.xMax - patch.xMin) * side, (patch.yMax - patch.yMin) * side);
+    return QRectF(patch.xMin * side, patch.yMin * side, (patch.xMax - patch.xMin) * side,
+                  (patch.yMax - patch.yMin) * side);
 }
 
 // Index of robot i among the robots of its team (its identity colour).
@@ -41,10 +42,11 @@ FieldView::FieldView(QWidget* parent) : QOpenGLWidget(parent) {
     setFocusPolicy(Qt::StrongFocus);
     setMouseTracking(false);
     setMinimumSize(320, 280);
-    setToolTip(tr("Drag a robot or the ball to move it; mouse wheel over a robot turns it;\n"
-                  "Shift+drag from a body sets its velocity (0.1 m of arrow = 1 m/s);\n"
-                  "wheel elsewhere zooms, right or middle drag pans, double-click resets the view;\n"
-                  "W A S D or the arrow keys drive the selected robot, Esc lets it go."));
+    setToolTip(
+        tr("Drag a robot or the ball to move it; mouse wheel over a robot turns it;\n"
+           "Shift+drag from a body sets its velocity (0.1 m of arrow = 1 m/s);\n"
+           "wheel elsewhere zooms, right or middle drag pans, double-click resets the view;\n"
+           "W A S D or the arrow keys drive the selected robot, Esc lets it go."));
 }
 
 void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
@@ -58,7 +60,8 @@ void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
                                          : QPointF(snapshot->ball.x, snapshot->ball.y);
         auto& trail = trails_[i];
         // A jump far beyond what its speed explains: moved by hand, no streak.
-        const double speed = i + 1 < bodies ? std::abs(snapshot->robots[i].v) : std::hypot(snapshot->ball.vx, snapshot->ball.vy);
+        const double speed =
+            i + 1 < bodies ? std::abs(snapshot->robots[i].v) : std::hypot(snapshot->ball.vx, snapshot->ball.vy);
         if (!trail.empty() && QLineF(trail.back(), p).length() > 0.02 + 2.0 * speed * elapsed) trail.clear();
         if (trail.empty() || QLineF(trail.back(), p).length() > 0.002) trail.push_back(p);
         if (trail.size() > kTrailPoints) trail.pop_front();
@@ -164,7 +167,8 @@ void FieldView::paintBodies(QPainter& p) const {
         p.drawLine(QPointF(0.5 * side, 0), QPointF(0.68 * side, 0));
         const bool manual = i < s.control.size() && s.control[i].controller == RobotController::Manual;
         if (static_cast<int>(i) == selected_ || manual) {
-            p.setPen(QPen(manual ? QColor(255, 80, 80) : QColor(120, 200, 255), 0.005, manual ? Qt::DashLine : Qt::SolidLine));
+            p.setPen(QPen(manual ? QColor(255, 80, 80) : QColor(120, 200, 255), 0.005,
+                          manual ? Qt::DashLine : Qt::SolidLine));
             p.setBrush(Qt::NoBrush);
             p.drawEllipse(QPointF(0, 0), 0.75 * side, 0.75 * side);
         }
@@ -208,7 +212,8 @@ int FieldView::robotAt(const QPointF& f) const {
 
 bool FieldView::ballAt(const QPointF& f) const {
     if (!snapshot_ || !snapshot_->scene) return false;
-    return std::hypot(f.x() - snapshot_->ball.x, f.y() - snapshot_->ball.y) <= 1.5 * snapshot_->scene->ball_params.radius;
+    return std::hypot(f.x() - snapshot_->ball.x, f.y() - snapshot_->ball.y) <=
+           1.5 * snapshot_->scene->ball_params.radius;
 }
 
 RobotState FieldView::clampInside(int robot, RobotState pose) const {
@@ -295,8 +300,7 @@ void FieldView::mouseMoveEvent(QMouseEvent* event) {
             dragLast_ = f;
             update();
             return;
-        case Drag::None:
-            return;
+        case Drag::None: return;
     }
 }
 
@@ -326,7 +330,8 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
             // A robot moves along its heading only: the arrow's projection on it.
             RobotState pose = snapshot_->robots[dragRobot_];
             const QPointF d = f - QPointF(pose.x, pose.y);
-            pose.v = std::clamp(kSpeedPerArrowMetre * (d.x() * std::cos(pose.theta) + d.y() * std::sin(pose.theta)), -kMaxPlacedRobotSpeed, kMaxPlacedRobotSpeed);
+            pose.v = std::clamp(kSpeedPerArrowMetre * (d.x() * std::cos(pose.theta) + d.y() * std::sin(pose.theta)),
+                                -kMaxPlacedRobotSpeed, kMaxPlacedRobotSpeed);
             pose.omega = 0;
             emit robotPlaced(dragRobot_, pose, true);
             break;
@@ -342,8 +347,7 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
             break;
         }
         case Drag::Pan:
-        case Drag::None:
-            break;
+        case Drag::None: break;
     }
     update();
 }

@@ -22,7 +22,7 @@ class FieldView : public QOpenGLWidget {
     Q_OBJECT
 public:
     // Arrow length to speed: dragging 0.1 m of arrow gives 1 m/s.
-    static constexpr double kSpeedPerArrowMetre = 10.0;  // (m/s) per m
+    static constexpr double kSpeedPerArrowMetre = 10.0;                      // (m/s) per m
     static constexpr double kRotateStep = 15.0 * 3.141592653589793 / 180.0;  // rad per wheel notch
 
     explicit FieldView(QWidget* parent = nullptr);
@@ -79,11 +79,11 @@ private:
     QPointF pan_;  // m, the view centre's offset from the field centre
     static constexpr double kDragThresholdPx = 4.0;
     Drag drag_ = Drag::None;
-    QPointF pressPixel_;   // where the button went down, widget px
-    bool moved_ = false;   // the mouse travelled beyond kDragThresholdPx since
+    QPointF pressPixel_;  // where the button went down, widget px
+    bool moved_ = false;  // the mouse travelled beyond kDragThresholdPx since
     int dragRobot_ = -1;
-    QPointF dragOffset_;   // m: body centre minus the grab point
-    QPointF dragLast_;     // widget px (pan) or field m (arrow end)
+    QPointF dragOffset_;  // m: body centre minus the grab point
+    QPointF dragLast_;    // widget px (pan) or field m (arrow end)
     RobotState dragRobotPose_;
     BallState dragBall_;
     std::vector<std::deque<QPointF>> trails_;  // per robot, then the ball; field m

@@ -9,9 +9,7 @@ namespace vssim {
 namespace {
 
 // SDL axis value (-32768..32767) to [-1, 1].
-double normalisedAxis(Sint16 raw) {
-    return std::clamp(static_cast<double>(raw) / 32767.0, -1.0, 1.0);
-}
+double normalisedAxis(Sint16 raw) { return std::clamp(static_cast<double>(raw) / 32767.0, -1.0, 1.0); }
 
 }  // namespace
 
@@ -26,8 +24,7 @@ GamepadInput::GamepadInput(QObject* parent) : QObject(parent) {
     if (SDL_InitSubSystem(SDL_INIT_GAMECONTROLLER) == 0) {
         available_ = true;
     } else {
-        error_ = QStringLiteral("SDL game controller subsystem unavailable: %1")
-                     .arg(QString::fromUtf8(SDL_GetError()));
+        error_ = QStringLiteral("SDL game controller subsystem unavailable: %1").arg(QString::fromUtf8(SDL_GetError()));
     }
     timer_.setInterval(kPollIntervalMs);
     timer_.setTimerType(Qt::PreciseTimer);
@@ -80,23 +77,23 @@ void GamepadInput::poll() {
     SDL_Event event;
     while (SDL_PollEvent(&event)) {
         switch (event.type) {
-        case SDL_CONTROLLERDEVICEADDED:  // cdevice.which: device index
-            if (!controller_) open(event.cdevice.which);
-            break;
-        case SDL_CONTROLLERDEVICEREMOVED:  // cdevice.which: instance id
-            if (controller_ && event.cdevice.which == instanceId_) {
-                const QString lost = name_;
-                close();
-                if (axes_[0] != 0.0 || axes_[1] != 0.0 || axes_[2] != 0.0 || axes_[3] != 0.0) {
-                    std::fill(std::begin(axes_), std::end(axes_), 0.0);
-                    emit axesChanged(0.0, 0.0, 0.0, 0.0);  // let go: stop the robot
+            case SDL_CONTROLLERDEVICEADDED:  // cdevice.which: device index
+                if (!controller_) open(event.cdevice.which);
+                break;
+            case SDL_CONTROLLERDEVICEREMOVED:  // cdevice.which: instance id
+                if (controller_ && event.cdevice.which == instanceId_) {
+                    const QString lost = name_;
+                    close();
+                    if (axes_[0] != 0.0 || axes_[1] != 0.0 || axes_[2] != 0.0 || axes_[3] != 0.0) {
+                        std::fill(std::begin(axes_), std::end(axes_), 0.0);
+                        emit axesChanged(0.0, 0.0, 0.0, 0.0);  // let go: stop the robot
+                    }
+                    openFirst();  // another one still plugged in takes over
+                    if (!controller_) emit connectedChanged(false, lost);
                 }
-                openFirst();  // another one still plugged in takes over
-                if (!controller_) emit connectedChanged(false, lost);
-            }
-            break;
-        default:  // axis/button events: the axes are read below
-            break;
+                break;
+            default:  // axis/button events: the axes are read below
+                break;
         }
     }
     readAxes();

@@ -9,13 +9,11 @@ namespace vssim {
 
 namespace {
 
-constexpr double kMargin = 2.0;          // px between the base and the widget's edge
-constexpr double kKnobFraction = 0.28;   // knob radius / base radius
+constexpr double kMargin = 2.0;         // px between the base and the widget's edge
+constexpr double kKnobFraction = 0.28;  // knob radius / base radius
 
 // Base radius, px: the largest circle that fits, less the margin.
-double baseRadiusOf(const QWidget& w) {
-    return std::max(1.0, std::min(w.width(), w.height()) / 2.0 - kMargin);
-}
+double baseRadiusOf(const QWidget& w) { return std::max(1.0, std::min(w.width(), w.height()) / 2.0 - kMargin); }
 
 }  // namespace
 
@@ -31,9 +29,7 @@ QPointF JoystickWidget::centre() const { return {width() / 2.0, height() / 2.0};
 double JoystickWidget::knobRadius() const { return baseRadiusOf(*this) * kKnobFraction; }
 
 // The knob stays inside the base: its centre travels base - knob radius.
-double JoystickWidget::travelRadius() const {
-    return std::max(1.0, baseRadiusOf(*this) - knobRadius());
-}
+double JoystickWidget::travelRadius() const { return std::max(1.0, baseRadiusOf(*this) - knobRadius()); }
 
 void JoystickWidget::moveKnobTo(const QPointF& px) {
     const QPointF offset = px - centre();
@@ -115,9 +111,7 @@ void JoystickWidget::paintEvent(QPaintEvent*) {
     p.drawLine(QPointF(c.x(), c.y() - base), QPointF(c.x(), c.y() + base));
     // Forward marker at the top.
     const double tip = base - 4.0;
-    const QPointF arrow[3] = {{c.x(), c.y() - tip},
-                              {c.x() - 5.0, c.y() - tip + 7.0},
-                              {c.x() + 5.0, c.y() - tip + 7.0}};
+    const QPointF arrow[3] = {{c.x(), c.y() - tip}, {c.x() - 5.0, c.y() - tip + 7.0}, {c.x() + 5.0, c.y() - tip + 7.0}};
     p.setBrush(pal.color(QPalette::Mid));
     p.drawPolygon(arrow, 3);
 

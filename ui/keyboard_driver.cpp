@@ -28,15 +28,15 @@ constexpr unsigned kTurnRight = KeyRight | KeyD;
 
 unsigned bitFor(int qtKey) {
     switch (qtKey) {
-    case Qt::Key_Up: return KeyUp;
-    case Qt::Key_W: return KeyW;
-    case Qt::Key_Down: return KeyDown;
-    case Qt::Key_S: return KeyS;
-    case Qt::Key_Left: return KeyLeft;
-    case Qt::Key_A: return KeyA;
-    case Qt::Key_Right: return KeyRight;
-    case Qt::Key_D: return KeyD;
-    default: return 0;
+        case Qt::Key_Up: return KeyUp;
+        case Qt::Key_W: return KeyW;
+        case Qt::Key_Down: return KeyDown;
+        case Qt::Key_S: return KeyS;
+        case Qt::Key_Left: return KeyLeft;
+        case Qt::Key_A: return KeyA;
+        case Qt::Key_Right: return KeyRight;
+        case Qt::Key_D: return KeyD;
+        default: return 0;
     }
 }
 

@@ -16,9 +16,9 @@ struct Series {
     QColor colour;
 };
 
-constexpr int kMarginLeft = 72;   // px, room for the min/max labels
-constexpr int kMarginRight = 84;  // px, room for a second unit's labels
-constexpr int kTitleHeight = 16;  // px
+constexpr int kMarginLeft = 72;      // px, room for the min/max labels
+constexpr int kMarginRight = 84;     // px, room for a second unit's labels
+constexpr int kTitleHeight = 16;     // px
 constexpr int kTimeAxisHeight = 16;  // px
 
 // [lo, hi] of some values, widened so that a flat curve still has a height.
@@ -56,11 +56,12 @@ void LivePlots::addSample(const Snapshot& s, int robot) {
 
     const Voltages e = index < s.voltages.size() ? s.voltages[index] : Voltages{};
     const RobotOutputs out = index < s.outputs.size() ? s.outputs[index] : RobotOutputs{};
-    samples_.push_back({s.time, s.robots[index].v, s.robots[index].omega, e.right, e.left, out.current_right,
-                        out.current_left});
+    samples_.push_back(
+        {s.time, s.robots[index].v, s.robots[index].omega, e.right, e.left, out.current_right, out.current_left});
 
     const double oldest = s.time - window_;
-    const auto firstKept = std::find_if(samples_.begin(), samples_.end(), [&](const Sample& x) { return x.t >= oldest; });
+    const auto firstKept =
+        std::find_if(samples_.begin(), samples_.end(), [&](const Sample& x) { return x.t >= oldest; });
     samples_.erase(samples_.begin(), firstKept);
     if (static_cast<int>(samples_.size()) > maxSamples_) thin();
     update();

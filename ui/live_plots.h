@@ -45,10 +45,10 @@ protected:
 
 private:
     struct Sample {
-        double t;                // simulated time, s
-        double v, omega;         // m/s, rad/s
-        double eRight, eLeft;    // V
-        double iRight, iLeft;    // A
+        double t;              // simulated time, s
+        double v, omega;       // m/s, rad/s
+        double eRight, eLeft;  // V
+        double iRight, iLeft;  // A
     };
     std::vector<Sample> samples_;
     int robot_ = -1;

@@ -28,12 +28,12 @@
 #include "connections_panel.h"
 #include "field_view.h"
 #include "gamepad_input.h"
+#include "io/scene_io.h"
 #include "joystick_widget.h"
 #include "live_plots.h"
 #include "net/network_address.h"
 #include "remote_window.h"
 #include "robot_inspector.h"
-#include "io/scene_io.h"
 #include "scene_parameters_dialog.h"
 #include "scene_value_ranges.h"
 #include "status_text.h"
@@ -48,10 +48,17 @@ namespace {
 class PlaceBodyCommand : public QUndoCommand {
 public:
     PlaceBodyCommand(AppSession& session, int robot, RobotState before, RobotState after, const QString& name)
-        : QUndoCommand(QObject::tr("Move %1").arg(name)), session_(session), robot_(robot), robotBefore_(before),
+        : QUndoCommand(QObject::tr("Move %1").arg(name)),
+          session_(session),
+          robot_(robot),
+          robotBefore_(before),
           robotAfter_(after) {}
     PlaceBodyCommand(AppSession& session, BallState before, BallState after)
-        : QUndoCommand(QObject::tr("Move the ball")), session_(session), robot_(-1), ballBefore_(before), ballAfter_(after) {}
+        : QUndoCommand(QObject::tr("Move the ball")),
+          session_(session),
+          robot_(-1),
+          ballBefore_(before),
+          ballAfter_(after) {}
     void undo() override { place(true); }
     void redo() override {
         if (first_) {
@@ -63,8 +70,10 @@ public:
 
 private:
     void place(bool before) {
-        if (robot_ >= 0) session_.placeRobot(robot_, before ? robotBefore_ : robotAfter_);
-        else session_.placeBall(before ? ballBefore_ : ballAfter_);
+        if (robot_ >= 0)
+            session_.placeRobot(robot_, before ? robotBefore_ : robotAfter_);
+        else
+            session_.placeBall(before ? ballBefore_ : ballAfter_);
     }
     AppSession& session_;
     int robot_;
@@ -128,9 +137,12 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
 
     refresh();  // the first snapshot: the scene's settings in the toolbar, its robots in the camera view
     if (session_->listening())
-        connections_->setListening(tr("%1:%2 for TCP clients (docs/protocol.md)").arg(session_->server().address().toString()).arg(session_->port()));
+        connections_->setListening(tr("%1:%2 for TCP clients (docs/protocol.md)")
+                                       .arg(session_->server().address().toString())
+                                       .arg(session_->port()));
     else
-        connections_->listeningLabel()->setText(tr("No TCP server: %1 (vssim gui --port N picks another port)").arg(session_->listenError()));
+        connections_->listeningLabel()->setText(
+            tr("No TCP server: %1 (vssim gui --port N picks another port)").arg(session_->listenError()));
     wall_.start();
     connect(&timer_, &QTimer::timeout, this, &MainWindow::refresh);
     setRefreshRate(30.0);
@@ -139,9 +151,7 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
     resizeDocks({robotDock_}, {430}, Qt::Horizontal);
 }
 
-MainWindow::~MainWindow() {
-    timer_.stop();
-}
+MainWindow::~MainWindow() { timer_.stop(); }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
     timer_.stop();
@@ -149,9 +159,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     event->accept();
 }
 
-void MainWindow::setRefreshRate(double hz) {
-    timer_.start(static_cast<int>(1000.0 / hz));
-}
+void MainWindow::setRefreshRate(double hz) { timer_.start(static_cast<int>(1000.0 / hz)); }
 
 void MainWindow::buildDocks() {
     auto dock = [this](const QString& title, QWidget* widget, Qt::DockWidgetArea area, const char* name) {
@@ -170,7 +178,8 @@ void MainWindow::buildDocks() {
     robotDock_ = robotDock;
 
     camera_ = new CameraView;
-    QDockWidget* cameraDock = dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
+    QDockWidget* cameraDock =
+        dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
     tabifyDockWidget(robotDock, cameraDock);
     robotDock->raise();
 
@@ -186,14 +195,16 @@ void MainWindow::buildDocks() {
     layout->addWidget(driveStatus_);
     auto* form = new QFormLayout;
     mapping_ = new QComboBox(drive);
-    mapping_->addItems({tr("Arcade (one stick: forward and turn)"), tr("Tank (left stick: left wheel, right stick: right wheel)")});
+    mapping_->addItems(
+        {tr("Arcade (one stick: forward and turn)"), tr("Tank (left stick: left wheel, right stick: right wheel)")});
     form->addRow(tr("Stick mapping"), mapping_);
     gamepadStatus_ = new QLabel(drive);
     form->addRow(tr("Gamepad"), gamepadStatus_);
     layout->addLayout(form);
     joystick_ = new JoystickWidget(drive);
     joystick_->setMaximumSize(220, 220);
-    joystick_->setToolTip(tr("On-screen joystick: drag the knob to drive the selected robot (with the stick mapping above)"));
+    joystick_->setToolTip(
+        tr("On-screen joystick: drag the knob to drive the selected robot (with the stick mapping above)"));
     layout->addWidget(joystick_, 1, Qt::AlignHCenter);
     auto* release = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
     layout->addWidget(release);
@@ -212,8 +223,11 @@ void MainWindow::buildDocks() {
     connect(gamepad_, &GamepadInput::axesChanged, this, [this](double lx, double ly, double rx, double ry) {
         // A small dead zone: worn sticks do not rest exactly at 0.
         constexpr double kDeadzone = 0.08;
-        if (mapping_->currentIndex() == 0) onStick(applyDeadzone(lx, kDeadzone), applyDeadzone(ly, kDeadzone), true);
-        else onStick(applyDeadzone(ry, kDeadzone), applyDeadzone(ly, kDeadzone), true);  // tank: x is the right wheel's stick
+        if (mapping_->currentIndex() == 0)
+            onStick(applyDeadzone(lx, kDeadzone), applyDeadzone(ly, kDeadzone), true);
+        else
+            onStick(applyDeadzone(ry, kDeadzone), applyDeadzone(ly, kDeadzone),
+                    true);  // tank: x is the right wheel's stick
         (void)rx;
     });
     gamepad_->start();
@@ -238,15 +252,17 @@ void MainWindow::buildActions() {
     });
     file->addAction(tr("&Watch a server..."), this, [this] {
         bool ok = false;
-        const QString target = QInputDialog::getText(this, tr("Watch a server"), tr("vssim serve at HOST:PORT"),
-                                                     QLineEdit::Normal, QStringLiteral("127.0.0.1:%1").arg(protocol::kDefaultPort), &ok);
+        const QString target =
+            QInputDialog::getText(this, tr("Watch a server"), tr("vssim serve at HOST:PORT"), QLineEdit::Normal,
+                                  QStringLiteral("127.0.0.1:%1").arg(protocol::kDefaultPort), &ok);
         if (!ok) return;
         const std::optional<HostPort> address = parseHostPort(target);
         auto* watcher = new RemoteWatcher;
         QString error;
         if (!address || !watcher->connectTo(address->host, address->port, &error)) {
             delete watcher;
-            QMessageBox::warning(this, tr("Watch a server"), error.isEmpty() ? tr("expected HOST:PORT, got \"%1\"").arg(target) : error);
+            QMessageBox::warning(this, tr("Watch a server"),
+                                 error.isEmpty() ? tr("expected HOST:PORT, got \"%1\"").arg(target) : error);
             return;
         }
         auto* window = new RemoteWindow(watcher);
@@ -288,7 +304,8 @@ void MainWindow::buildActions() {
         rate->addAction(tr("%1 Hz").arg(hz), this, [this, hz] { setRefreshRate(hz); });
 
     QMenu* help = menuBar()->addMenu(tr("&Help"));
-    help->addAction(tr("&Controls"), this, [this] { QMessageBox::information(this, tr("Controls"), field_->toolTip()); });
+    help->addAction(tr("&Controls"), this,
+                    [this] { QMessageBox::information(this, tr("Controls"), field_->toolTip()); });
     help->addAction(tr("&About vssim"), this, [this] {
         QMessageBox::about(this, tr("About vssim"),
                            tr("vssim %1: a simulator of IEEE Very Small Size Soccer robots, driven by motor voltages.\n"
@@ -381,7 +398,8 @@ void MainWindow::applySettingsFromToolbar() {
         settings.collision_model == now.collision_model && settings.restitution == now.restitution)
         return;
     session_->applySettings(settings);
-    statusBar()->showMessage(tr("New simulation settings: the bodies stay where they are, the clock restarts at 0"), 5000);
+    statusBar()->showMessage(tr("New simulation settings: the bodies stay where they are, the clock restarts at 0"),
+                             5000);
 }
 
 bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
@@ -467,8 +485,10 @@ void MainWindow::onStick(double x, double y, bool fromGamepad) {
     if (manualRobot_ < 0 && selected >= 0 && stickActive_) manualRobot_ = selected;
     if (manualRobot_ < 0) return;
     const double max = session_->scene().robots[manualRobot_].params.max_voltage;
-    stickVolts_ = stickActive_ ? stickToVoltages(x, y, mapping_->currentIndex() == 0 ? DriveMapping::Arcade : DriveMapping::Tank, max)
-                               : Voltages{};
+    stickVolts_ =
+        stickActive_
+            ? stickToVoltages(x, y, mapping_->currentIndex() == 0 ? DriveMapping::Arcade : DriveMapping::Tank, max)
+            : Voltages{};
     sendManual(stickVolts_);
 }
 
@@ -534,15 +554,17 @@ void MainWindow::refresh() {
     step_->setEnabled(snapshot->paused);
     const Scene* scene = snapshot->scene.get();
     if (manualRobot_ >= 0 && scene && manualRobot_ < static_cast<int>(scene->robots.size())) {
-        const bool tcp = manualRobot_ < static_cast<int>(snapshot->control.size()) && snapshot->control[manualRobot_].tcpWhileManual;
+        const bool tcp =
+            manualRobot_ < static_cast<int>(snapshot->control.size()) && snapshot->control[manualRobot_].tcpWhileManual;
         driveStatus_->setText(tr("Driving %1 by hand%2. Esc or the button below lets go.")
                                   .arg(QString::fromStdString(scene->robots[manualRobot_].name))
                                   .arg(tcp ? tr(": its TCP voltages are ignored") : QString()));
     } else {
-        driveStatus_->setText(selected >= 0 ? tr("W A S D or the arrow keys (field focused), the joystick below or a gamepad drive %1.")
-                                                  .arg(QString::fromStdString(scene->robots[selected].name))
-                                            : tr("Click a robot to select it, then drive it with W A S D, the arrow keys, "
-                                                 "the joystick below or a gamepad."));
+        driveStatus_->setText(
+            selected >= 0 ? tr("W A S D or the arrow keys (field focused), the joystick below or a gamepad drive %1.")
+                                .arg(QString::fromStdString(scene->robots[selected].name))
+                          : tr("Click a robot to select it, then drive it with W A S D, the arrow keys, "
+                               "the joystick below or a gamepad."));
     }
 }
 

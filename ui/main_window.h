@@ -97,8 +97,8 @@ private:
     QTimer timer_;
     int tick_ = 0;
     KeyboardDriver keyboard_;
-    int manualRobot_ = -1;            // the robot a person drives, or -1
-    Voltages stickVolts_;             // from the joystick or gamepad
+    int manualRobot_ = -1;  // the robot a person drives, or -1
+    Voltages stickVolts_;   // from the joystick or gamepad
     bool stickActive_ = false;
     std::optional<RobotState> dragBefore_;
     int dragRobot_ = -1;

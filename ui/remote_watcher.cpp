@@ -53,7 +53,8 @@ std::optional<Snapshot> snapshotFromState(const QJsonObject& state, std::shared_
     s.step = static_cast<std::int64_t>(std::llround(s.time / scene->simulation.dt));
     for (const QJsonValue& value : robots) {
         const QJsonObject r = value.toObject();
-        s.robots.push_back({r["x"].toDouble(), r["y"].toDouble(), r["theta"].toDouble(), r["v"].toDouble(), r["omega"].toDouble()});
+        s.robots.push_back(
+            {r["x"].toDouble(), r["y"].toDouble(), r["theta"].toDouble(), r["v"].toDouble(), r["omega"].toDouble()});
         s.voltages.push_back({r["right_voltage"].toDouble(), r["left_voltage"].toDouble()});
         RobotOutputs out;
         out.current_right = r["right_current"].toDouble();
@@ -74,13 +75,14 @@ bool RemoteWatcher::connectTo(const QString& host, quint16 port, QString* error,
         *error = QStringLiteral("cannot connect to %1: %2").arg(address_, client_.socket().errorString());
         return false;
     }
-    const std::optional<QJsonObject> welcome =
-        client_.hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"name", "vssim gui"}, {"images", "none"}, {"state", true}},
-                      timeoutMs);
+    const std::optional<QJsonObject> welcome = client_.hello(
+        QJsonObject{{"protocol", 1}, {"role", "observer"}, {"name", "vssim gui"}, {"images", "none"}, {"state", true}},
+        timeoutMs);
     if (!welcome) {
         const auto reply = client_.next(100);
-        *error = QStringLiteral("%1 did not welcome us: %2")
-                     .arg(address_, reply ? jsonPayload(reply->message)["message"].toString() : QStringLiteral("no answer"));
+        *error =
+            QStringLiteral("%1 did not welcome us: %2")
+                .arg(address_, reply ? jsonPayload(reply->message)["message"].toString() : QStringLiteral("no answer"));
         return false;
     }
     std::optional<Scene> scene = sceneFromWelcome(*welcome, error);
@@ -126,7 +128,9 @@ void RemoteWatcher::control(const QString& command, const QJsonObject& args) {
 }
 
 void RemoteWatcher::placeRobot(int robot, const RobotState& pose) {
-    control("place_robot", {{"robot", robot}, {"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}, {"v", pose.v}, {"omega", pose.omega}});
+    control(
+        "place_robot",
+        {{"robot", robot}, {"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}, {"v", pose.v}, {"omega", pose.omega}});
 }
 
 void RemoteWatcher::placeBall(const BallState& ball) {

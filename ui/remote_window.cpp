@@ -30,19 +30,26 @@ RemoteWindow::RemoteWindow(RemoteWatcher* watcher, QWidget* parent) : QMainWindo
     QToolBar* bar = addToolBar(tr("Server"));
     bar->addAction(tr("Pause"), this, [this] { watcher_->control("pause"); })->setObjectName("remote.pause");
     bar->addAction(tr("Resume"), this, [this] { watcher_->control("resume"); })->setObjectName("remote.resume");
-    bar->addAction(tr("Step 30 ms"), this, [this] { watcher_->control("step", {{"duration", 0.03}}); })->setObjectName("remote.step");
-    bar->addAction(tr("Reset"), this, [this] {
-        watcher_->control("reset");
-        plots_->clear();
-    })->setObjectName("remote.reset");
+    bar->addAction(tr("Step 30 ms"), this,
+                   [this] {
+                       watcher_->control("step", {{"duration", 0.03}});
+                   })
+        ->setObjectName("remote.step");
+    bar->addAction(tr("Reset"), this,
+                   [this] {
+                       watcher_->control("reset");
+                       plots_->clear();
+                   })
+        ->setObjectName("remote.reset");
 
-    connect(field_, &FieldView::robotPlaced, this, [this](int robot, const RobotState& pose, bool) { watcher_->placeRobot(robot, pose); });
+    connect(field_, &FieldView::robotPlaced, this,
+            [this](int robot, const RobotState& pose, bool) { watcher_->placeRobot(robot, pose); });
     connect(field_, &FieldView::ballPlaced, this, [this](const BallState& ball, bool) { watcher_->placeBall(ball); });
     connect(field_, &FieldView::robotSelected, this, [this](int) { plots_->clear(); });
-    connect(watcher_, &RemoteWatcher::message, this, [this](const QString& text) { statusBar()->showMessage(text, 5000); });
-    connect(watcher_, &RemoteWatcher::disconnected, this, [this] {
-        statusBar()->showMessage(tr("%1 closed the connection").arg(watcher_->address()));
-    });
+    connect(watcher_, &RemoteWatcher::message, this,
+            [this](const QString& text) { statusBar()->showMessage(text, 5000); });
+    connect(watcher_, &RemoteWatcher::disconnected, this,
+            [this] { statusBar()->showMessage(tr("%1 closed the connection").arg(watcher_->address())); });
     status_ = new QLabel(this);
     status_->setObjectName("remote.status");
     statusBar()->addPermanentWidget(status_);
@@ -58,7 +65,10 @@ void RemoteWindow::refresh() {
     const int selected = field_->selectedRobot();
     inspector_->showRobot(*snapshot, selected);
     if (selected >= 0) plots_->addSample(*snapshot, selected);
-    status_->setText(tr("watching %1   t = %2 s   frame %3").arg(watcher_->address()).arg(snapshot->time, 0, 'f', 3).arg(snapshot->frame));
+    status_->setText(tr("watching %1   t = %2 s   frame %3")
+                         .arg(watcher_->address())
+                         .arg(snapshot->time, 0, 'f', 3)
+                         .arg(snapshot->frame));
 }
 
 }  // namespace vssim

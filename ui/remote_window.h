@@ -3,8 +3,8 @@
 // as CONTROL. Bodies can be dragged (place_robot / place_ball).
 #pragma once
 
-#include <QMainWindow>
 #include <QLabel>
+#include <QMainWindow>
 #include <QTimer>
 
 #include "remote_watcher.h"

@@ -93,10 +93,13 @@ void RobotInspector::showRobot(const Snapshot& s, int robot) {
     set("voltageLeft", number(volts.left, 2, "V"));
 
     QString controller;
-    if (index >= s.control.size()) controller = QStringLiteral("not known (watching a server)");
-    else if (s.control[index].controller == RobotController::None && (s.voltages[index].right != 0.0 || s.voltages[index].left != 0.0))
+    if (index >= s.control.size())
+        controller = QStringLiteral("not known (watching a server)");
+    else if (s.control[index].controller == RobotController::None &&
+             (s.voltages[index].right != 0.0 || s.voltages[index].left != 0.0))
         controller = QStringLiteral("the scene's own commands");
-    else controller = controllerText(s.control[index]);
+    else
+        controller = controllerText(s.control[index]);
     set("controller", controller);
 }
 

@@ -185,8 +185,8 @@ QWidget* SceneParametersDialog::robotsTab() {
                                                      1000.0, member(&P::friction_linear)));
     body->addRow(tr("Angular friction"), robotSpinBox("robot.friction_angular", " N m s/rad", 7,
                                                       SceneRange::NonNegative, 100.0, member(&P::friction_angular)));
-    body->addRow(tr("Max voltage"), robotSpinBox("robot.max_voltage", " V", 3, SceneRange::Positive, 1000.0,
-                                                 member(&P::max_voltage)));
+    body->addRow(tr("Max voltage"),
+                 robotSpinBox("robot.max_voltage", " V", 3, SceneRange::Positive, 1000.0, member(&P::max_voltage)));
 
     // The two motors side by side: one row per parameter, right then left.
     struct MotorRow {
@@ -241,7 +241,9 @@ QWidget* SceneParametersDialog::robotsTab() {
     editor->addLayout(body);
     editor->addWidget(motors);
     editor->addLayout(buttons);
-    editor->addWidget(new QLabel(tr("Initial poses are not edited here: move the bodies on the field, then File > Save scene as... writes them as the initial poses.")));
+    editor->addWidget(
+        new QLabel(tr("Initial poses are not edited here: move the bodies on the field, then File > Save scene as... "
+                      "writes them as the initial poses.")));
     editor->addStretch();
 
     connect(robotList_, &QListWidget::currentRowChanged, this, &SceneParametersDialog::selectRobot);
@@ -249,8 +251,10 @@ QWidget* SceneParametersDialog::robotsTab() {
     auto* layout = new QHBoxLayout(tab);
     layout->addWidget(robotList_, 1);
     layout->addWidget(robotEditor_, 3);
-    if (scene_.robots.empty()) selectRobot(-1);
-    else robotList_->setCurrentRow(0);
+    if (scene_.robots.empty())
+        selectRobot(-1);
+    else
+        robotList_->setCurrentRow(0);
     return tab;
 }
 

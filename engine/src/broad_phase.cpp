@@ -12,7 +12,7 @@ void candidatePairs(const std::vector<RobotState>& robots, const std::vector<dou
     const int n = static_cast<int>(robots.size());
     const std::size_t first = pairs.size();
     auto reach = [&](int i) { return boundingRadius(sides[i]) + margin; };  // m
-    const bool reuse = static_cast<int>(scratch.order.size()) == n;  // the order of the previous call
+    const bool reuse = static_cast<int>(scratch.order.size()) == n;         // the order of the previous call
     scratch.order.resize(n);
     scratch.minX.resize(n);
     for (int i = 0; i < n; ++i) {

@@ -67,8 +67,8 @@ std::optional<Contact> robotWallContact(const RobotState& robot, double side, in
     return k;
 }
 
-std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex,
-                                        const BallState& ball, double radius) {
+std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex, const BallState& ball,
+                                        double radius) {
     const Eigen::Vector2d c(ball.x, ball.y);
     if ((c - centre(robot)).norm() > radius + boundingRadius(side)) return std::nullopt;  // cheap rejection
 
@@ -83,8 +83,8 @@ std::optional<Contact> robotBallContact(const RobotState& robot, double side, in
         const Eigen::Vector2d axis = alongX ? Eigen::Vector2d(local.x() >= 0.0 ? 1.0 : -1.0, 0.0)
                                             : Eigen::Vector2d(0.0, local.y() >= 0.0 ? 1.0 : -1.0);
         const double inside = half - std::abs(alongX ? local.x() : local.y());
-        const Eigen::Vector2d onFace = alongX ? Eigen::Vector2d(axis.x() * half, local.y())
-                                              : Eigen::Vector2d(local.x(), axis.y() * half);
+        const Eigen::Vector2d onFace =
+            alongX ? Eigen::Vector2d(axis.x() * half, local.y()) : Eigen::Vector2d(local.x(), axis.y() * half);
         k.normal = fromRobotFrame(robot, axis) - centre(robot);
         k.depth = radius + inside;
         k.point = fromRobotFrame(robot, onFace);

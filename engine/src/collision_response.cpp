@@ -11,7 +11,9 @@ Eigen::Vector2d heading(const RobotState& r) { return {std::cos(r.theta), std::s
 Eigen::Vector2d perp(const Eigen::Vector2d& d) { return {-d.y(), d.x()}; }  // z x d
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-Eigen::Vector2d leverArm(const RobotState& r, const Eigen::Vector2d& point) { return point - Eigen::Vector2d(r.x, r.y); }
+Eigen::Vector2d leverArm(const RobotState& r, const Eigen::Vector2d& point) {
+    return point - Eigen::Vector2d(r.x, r.y);
+}
 
 // Translational mass of a body, kg (infinite for a wall).
 double massOf(const Bodies& bodies, const BodyRef& body) {
@@ -96,8 +98,8 @@ bool respondPaper(const Contact& c, Bodies& bodies) {
 // §6b: the normal velocity of a contact point is g . u; an impulse lambda
 // along n changes u by M^-1 g^T lambda.
 struct ImpulseSide {
-    double normalSpeed = 0.0;     // g . u, m/s
-    double inverseMass = 0.0;     // g M^-1 g^T, 1/kg
+    double normalSpeed = 0.0;  // g . u, m/s
+    double inverseMass = 0.0;  // g M^-1 g^T, 1/kg
     Eigen::Vector2d g = Eigen::Vector2d::Zero();
 };
 
@@ -171,7 +173,7 @@ Eigen::Vector2d decomposeContactVelocity(const RobotState& robot, const Eigen::V
                                          const Eigen::Vector2d& wanted) {
     const Eigen::Vector2d h = heading(robot);
     const Eigen::Vector2d hPerp = perp(h);
-    const double forward = d.dot(h);   // d_f, m
+    const double forward = d.dot(h);      // d_f, m
     const double lateral = d.dot(hPerp);  // d_l, m
     if (std::abs(forward) < kLateralAxisTolerance) {
         const Eigen::Vector2d current = robot.v * h + robot.omega * perp(d);
@@ -211,7 +213,8 @@ double kineticEnergy(const Bodies& bodies) {
         energy += 0.5 * u.dot((*bodies.models)[i].M * u);
     }
     if (bodies.ball)
-        energy += 0.5 * bodies.ballParams->mass * (bodies.ball->vx * bodies.ball->vx + bodies.ball->vy * bodies.ball->vy);
+        energy +=
+            0.5 * bodies.ballParams->mass * (bodies.ball->vx * bodies.ball->vx + bodies.ball->vy * bodies.ball->vy);
     return energy;
 }
 

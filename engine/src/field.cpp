@@ -14,10 +14,10 @@ Field makeRectangularField(double length, double width) {
     const double hy = 0.5 * width;
     using V = Eigen::Vector2d;
     field.walls = {
-        {V(-hx, -hy), V(hx, -hy), V(0.0, 1.0)},   // bottom
-        {V(hx, -hy), V(hx, hy), V(-1.0, 0.0)},    // right
-        {V(hx, hy), V(-hx, hy), V(0.0, -1.0)},    // top
-        {V(-hx, hy), V(-hx, -hy), V(1.0, 0.0)},   // left
+        {V(-hx, -hy), V(hx, -hy), V(0.0, 1.0)},  // bottom
+        {V(hx, -hy), V(hx, hy), V(-1.0, 0.0)},   // right
+        {V(hx, hy), V(-hx, hy), V(0.0, -1.0)},   // top
+        {V(-hx, hy), V(-hx, -hy), V(1.0, 0.0)},  // left
     };
     return field;
 }
@@ -31,8 +31,6 @@ bool robotInsideField(const Field& field, double side, double x, double y, doubl
     return centreWithin(field, reach, reach, x, y);
 }
 
-bool discInsideField(const Field& field, double r, double x, double y) {
-    return centreWithin(field, r, r, x, y);
-}
+bool discInsideField(const Field& field, double r, double x, double y) { return centreWithin(field, r, r, x, y); }
 
 }  // namespace vssim

@@ -56,7 +56,8 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // to the line (negative behind it) is a cheap, conservative gap.
     for (const Wall& w : model.field.walls) {
         for (std::size_t i = 0; i < n; ++i) {
-            const double gap = w.normal.x() * (state.robots[i].x - w.a.x()) + w.normal.y() * (state.robots[i].y - w.a.y());
+            const double gap =
+                w.normal.x() * (state.robots[i].x - w.a.x()) + w.normal.y() * (state.robots[i].y - w.a.y());
             if (!(gap - reach(i) > out.robotTravel[i])) out.robots[i] = 0;
         }
         if (!(w.normal.dot(ball - w.a) - model.ball.radius > out.ballTravel)) out.ball = false;

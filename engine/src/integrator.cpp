@@ -32,9 +32,7 @@ RobotVector robotRate(const RobotModel& model, const RobotVector& q, const Volta
 // The ball's state (x, y, vx, vy) and eq. 9: v' = -(beta_b/m_b) v, p' = v.
 using BallVector = Eigen::Vector4d;
 
-BallVector ballRate(double decay, const BallVector& q) {
-    return BallVector(q(2), q(3), -decay * q(2), -decay * q(3));
-}
+BallVector ballRate(double decay, const BallVector& q) { return BallVector(q(2), q(3), -decay * q(2), -decay * q(3)); }
 
 template <typename Vector, typename Rate>
 Vector stepOnce(const Vector& q, double h, Integrator method, Rate rate) {
@@ -48,8 +46,7 @@ Vector stepOnce(const Vector& q, double h, Integrator method, Rate rate) {
 
 }  // namespace
 
-void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
-                    Integrator method) {
+void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h, Integrator method) {
     if (method == Integrator::Exact) {
         integrateRobotExact(model, makeExactStepTable(model, h, exactPanelsFor(model, state, e, h)), state, e);
         return;

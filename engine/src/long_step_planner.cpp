@@ -122,7 +122,8 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
             ++report.longSteps;
             continue;
         }
-        const bool someFree = free_.ball || std::any_of(free_.robots.begin(), free_.robots.end(), [](char f) { return f != 0; });
+        const bool someFree =
+            free_.ball || std::any_of(free_.robots.begin(), free_.robots.end(), [](char f) { return f != 0; });
         if (!someFree) {
             // Everybody may touch something before the stretch ends, but maybe
             // not soon: try shorter steps of a power of two times dt (few step
@@ -179,11 +180,13 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         // (each mode's share moves towards its end), so when the bounds at the
         // start of the stretch cannot ask for sub-steps, none later can, and
         // the frozen bodies' current speeds are not needed.
-        double smallest = model_.ball.radius, frozenFastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
+        double smallest = model_.ball.radius,
+               frozenFastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             smallest = std::min(smallest, 0.5 * model_.sides[i]);
             if (start.frozen[i])
-                frozenFastest = std::max(frozenFastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
+                frozenFastest =
+                    std::max(frozenFastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
         }
         const bool frozenMayDecideSubsteps = !(frozenFastest * dt <= kMaxTravelFraction * smallest);
         frozenSpeed_.assign(n, 0.0);

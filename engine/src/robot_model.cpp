@@ -40,17 +40,15 @@ RobotModel makeRobotModel(const RobotParams& p) {
     const double re = p.left.wheel_radius;
     const double b = p.wheel_base;
     // model.md §1: u = Tw w_w.
-    m.Tw << rd / 2.0, re / 2.0,
-            rd / b, -re / b;
+    m.Tw << rd / 2.0, re / 2.0, rd / b, -re / b;
     m.TwInv = m.Tw.inverse();
     const Eigen::Matrix2d TwInvT = m.TwInv.transpose();  // T_w^{-T}, maps wheel torques to (F, T)
 
     // model.md §2 (eq. 7): M u' + B u = K e.
     const Eigen::Matrix2d rotor = Eigen::Vector2d(p.right.rotor_inertia, p.left.rotor_inertia).asDiagonal();
-    const Eigen::Matrix2d motorDamping =
-        Eigen::Vector2d(p.right.k * p.right.k / p.right.resistance + p.right.friction,
-                        p.left.k * p.left.k / p.left.resistance + p.left.friction)
-            .asDiagonal();
+    const Eigen::Matrix2d motorDamping = Eigen::Vector2d(p.right.k * p.right.k / p.right.resistance + p.right.friction,
+                                                         p.left.k * p.left.k / p.left.resistance + p.left.friction)
+                                             .asDiagonal();
     const Eigen::Matrix2d gain =
         Eigen::Vector2d(p.right.k / p.right.resistance, p.left.k / p.left.resistance).asDiagonal();
 
@@ -127,7 +125,7 @@ double robotTravelBound(const RobotModel& model, const RobotState& state, const 
 RobotOutputs computeRobotOutputs(const RobotModel& model, const RobotState& state, const Voltages& e) {
     const RobotParams& p = model.params;
     const Eigen::Vector2d u(state.v, state.omega);
-    const Eigen::Vector2d wheel = model.TwInv * u;                                 // (w_d, w_e), rad/s
+    const Eigen::Vector2d wheel = model.TwInv * u;                                     // (w_d, w_e), rad/s
     const Eigen::Vector2d wheelAccel = model.TwInv * velocityDerivative(model, u, e);  // rad/s^2
     RobotOutputs out;
     out.wheel_speed_right = wheel(0);
@@ -135,10 +133,9 @@ RobotOutputs computeRobotOutputs(const RobotModel& model, const RobotState& stat
     // model.md §2: i_k = (e_k - K_k w_k) / R_k;  tau_k = K_k i_k - J_k w'_k - beta_k w_k.
     out.current_right = (e.right - p.right.k * wheel(0)) / p.right.resistance;
     out.current_left = (e.left - p.left.k * wheel(1)) / p.left.resistance;
-    out.torque_right = p.right.k * out.current_right - p.right.rotor_inertia * wheelAccel(0) -
-                       p.right.friction * wheel(0);
-    out.torque_left = p.left.k * out.current_left - p.left.rotor_inertia * wheelAccel(1) -
-                      p.left.friction * wheel(1);
+    out.torque_right =
+        p.right.k * out.current_right - p.right.rotor_inertia * wheelAccel(0) - p.right.friction * wheel(0);
+    out.torque_left = p.left.k * out.current_left - p.left.rotor_inertia * wheelAccel(1) - p.left.friction * wheel(1);
     return out;
 }
 

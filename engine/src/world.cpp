@@ -62,7 +62,8 @@ bool atRest(const BallState& b) { return b.vx == 0.0 && b.vy == 0.0; }
 
 }  // namespace
 
-static void integrateRobotBy(const WorldModel& model, WorldState& state, std::size_t i, double h, ExactTableCache* tables) {
+static void integrateRobotBy(const WorldModel& model, WorldState& state, std::size_t i, double h,
+                             ExactTableCache* tables) {
     RobotState& robot = state.robots[i];
     if (atRest(robot, state.voltages[i])) return;  // nothing would change
     const RobotModel& robotModel = model.robots[i];
@@ -72,7 +73,8 @@ static void integrateRobotBy(const WorldModel& model, WorldState& state, std::si
     }
     const int panels = exactPanelsFor(robotModel, robot, state.voltages[i], h);
     if (tables)
-        integrateRobotExact(robotModel, tables->table(static_cast<int>(i), robotModel, h, panels), robot, state.voltages[i]);
+        integrateRobotExact(robotModel, tables->table(static_cast<int>(i), robotModel, h, panels), robot,
+                            state.voltages[i]);
     else
         integrateRobotExact(robotModel, makeExactStepTable(robotModel, h, panels), robot, state.voltages[i]);
 }
@@ -91,8 +93,9 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
     }
     const double sub = h / report.substeps;
     Bodies bodies{&state.robots, &model.robots, &state.ball, &model.ball};
-    const BodiesView view{&state.robots,      &model.sides,       &state.ball,      model.ball.radius,
-                          useBroadPhase(model, state), options.freeRobots, options.freeBall, options.broadPhase};
+    const BodiesView view{
+        &state.robots,      &model.sides,     &state.ball,       model.ball.radius, useBroadPhase(model, state),
+        options.freeRobots, options.freeBall, options.broadPhase};
 
     for (int s = 0; s < report.substeps; ++s) {
         for (std::size_t i = 0; i < state.robots.size(); ++i)
@@ -144,13 +147,9 @@ void Simulation::setVoltages(int robot, const Voltages& e) {
     state_.voltages[robot] = clampVoltages(model_.robots[robot].params, e);
 }
 
-void Simulation::placeRobot(int robot, const RobotState& pose) {
-    state_.robots[robot] = pose;
-}
+void Simulation::placeRobot(int robot, const RobotState& pose) { state_.robots[robot] = pose; }
 
-void Simulation::placeBall(const BallState& ball) {
-    state_.ball = ball;
-}
+void Simulation::placeBall(const BallState& ball) { state_.ball = ball; }
 
 void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {

@@ -40,8 +40,14 @@
 namespace {
 
 // Message types (docs/protocol.md, "Framing").
-enum : std::uint8_t { kHello = 0x01, kVoltages = 0x02, kControl = 0x03 };                  // client -> server
-enum : std::uint8_t { kWelcome = 0x81, kFrame = 0x82, kState = 0x83, kReply = 0x84, kError = 0x85 };  // server -> client
+enum : std::uint8_t { kHello = 0x01, kVoltages = 0x02, kControl = 0x03 };  // client -> server
+enum : std::uint8_t {
+    kWelcome = 0x81,
+    kFrame = 0x82,
+    kState = 0x83,
+    kReply = 0x84,
+    kError = 0x85
+};  // server -> client
 enum { kKindPatches = 0, kKindFull = 1, kKindBackground = 2 };
 enum { kRaw = 0, kPng = 1, kJpeg = 2 };
 
@@ -52,7 +58,7 @@ constexpr int kSilenceTimeout = 10;     // s of wall-clock time without any mess
 // channel, so +-40 per channel never confuses them (red and the orange ball differ
 // only in G) while still accepting blended edge pixels and JPEG noise.
 const cv::Scalar kYellow(0, 255, 255), kBlue(255, 0, 0), kBall(0, 128, 255);
-const cv::Scalar kIdentity[6] = {{0, 0, 255},   {0, 255, 0},     {255, 0, 255},  // red, green, magenta,
+const cv::Scalar kIdentity[6] = {{0, 0, 255},   {0, 255, 0},     {255, 0, 255},   // red, green, magenta,
                                  {255, 255, 0}, {255, 255, 255}, {128, 0, 128}};  // cyan, white, purple
 constexpr double kColourTolerance = 40;
 constexpr int kMinBlobArea = 10;          // px: smaller blobs are edge artefacts or noise
@@ -100,9 +106,17 @@ private:
 
     [[noreturn]] void fail() { throw ProtocolError("malformed JSON from the server"); }
     void skipSpace() {
-        while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n')) ++pos_;
+        while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n'))
+            ++pos_;
     }
-    bool eat(char c) { skipSpace(); if (pos_ < s_.size() && s_[pos_] == c) { ++pos_; return true; } return false; }
+    bool eat(char c) {
+        skipSpace();
+        if (pos_ < s_.size() && s_[pos_] == c) {
+            ++pos_;
+            return true;
+        }
+        return false;
+    }
     bool eatWord(const char* w) {
         if (s_.compare(pos_, std::strlen(w), w) != 0) return false;
         pos_ += std::strlen(w);
@@ -114,7 +128,11 @@ private:
             char c = s_[pos_++];
             if (c == '\\' && pos_ < s_.size()) {
                 char e = s_[pos_++];
-                if (e == 'u') { out += '?'; pos_ += 4; continue; }
+                if (e == 'u') {
+                    out += '?';
+                    pos_ += 4;
+                    continue;
+                }
                 c = e == 'n' ? '\n' : e == 't' ? '\t' : e == 'r' ? '\r' : e == 'b' ? '\b' : e == 'f' ? '\f' : e;
             }
             out += c;
@@ -139,7 +157,8 @@ private:
         } else if (eat('[')) {
             v.type = Json::Array;
             if (eat(']')) return v;
-            do v.items.push_back(parseValue()); while (eat(','));
+            do v.items.push_back(parseValue());
+            while (eat(','));
             if (!eat(']')) fail();
         } else if (eat('"')) {
             v.type = Json::String;
@@ -170,7 +189,9 @@ Json parseJson(const std::vector<std::uint8_t>& payload) {
 // The connection: every message is u32 length (big-endian, counts type +
 // payload) + u8 type + payload. All numbers are big-endian.
 // ---------------------------------------------------------------------------
-void putU32(std::vector<std::uint8_t>& b, std::uint32_t v) { for (int s = 24; s >= 0; s -= 8) b.push_back(std::uint8_t(v >> s)); }
+void putU32(std::vector<std::uint8_t>& b, std::uint32_t v) {
+    for (int s = 24; s >= 0; s -= 8) b.push_back(std::uint8_t(v >> s));
+}
 void putF64(std::vector<std::uint8_t>& b, double d) {
     std::uint64_t v;
     std::memcpy(&v, &d, 8);
@@ -212,7 +233,9 @@ public:
         timeval timeout{kSilenceTimeout, 0};
         setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
     }
-    ~Connection() { if (fd_ >= 0) close(fd_); }
+    ~Connection() {
+        if (fd_ >= 0) close(fd_);
+    }
     Connection(const Connection&) = delete;
     Connection& operator=(const Connection&) = delete;
 
@@ -262,8 +285,9 @@ private:
             ssize_t got = recv(fd_, out, n, 0);
             if (got < 0 && errno == EINTR) continue;
             if (got < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
-                throw ProtocolError("no message from the server for " + std::to_string(kSilenceTimeout) +
-                                    " s (is it paused, or in lockstep mode while this client runs without --lockstep?)");
+                throw ProtocolError(
+                    "no message from the server for " + std::to_string(kSilenceTimeout) +
+                    " s (is it paused, or in lockstep mode while this client runs without --lockstep?)");
             if (got < 0) throw ProtocolError(std::string("connection lost: ") + std::strerror(errno));
             if (got == 0) throw ProtocolError("the server closed the connection");
             out += got;
@@ -349,7 +373,8 @@ std::vector<cv::Point2d> findBlobs(const cv::Mat& image, const cv::Mat& foregrou
     std::vector<std::pair<int, cv::Point2d>> blobs;
     for (int i = 1; i < count; ++i)  // label 0 is the background
         if (stats.at<int>(i, cv::CC_STAT_AREA) >= kMinBlobArea)
-            blobs.push_back({stats.at<int>(i, cv::CC_STAT_AREA), {centroids.at<double>(i, 0), centroids.at<double>(i, 1)}});
+            blobs.push_back(
+                {stats.at<int>(i, cv::CC_STAT_AREA), {centroids.at<double>(i, 0), centroids.at<double>(i, 1)}});
     std::sort(blobs.begin(), blobs.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     std::vector<cv::Point2d> result;
     for (const auto& b : blobs) result.push_back(b.second);
@@ -405,7 +430,7 @@ struct GoToPoint {
         const double dx = target.x - robot.x, dy = target.y - robot.y;
         double error = wrapAngle(std::atan2(dy, dx) - robot.theta);  // heading error driving forwards
         backwards = std::abs(error) > kPi / 2 + (backwards ? -0.3 : 0.3);
-        if (backwards) error = wrapAngle(error - kPi);              // heading error driving backwards
+        if (backwards) error = wrapAngle(error - kPi);  // heading error driving backwards
         // Slow down while the robot does not face the target (|error| <= ~pi/2 here).
         double common = std::min(kDistanceGain * std::hypot(dx, dy), kCruiseVoltage) * std::max(std::cos(error), 0.0);
         // > 0: turn left. Stay within +-maxVoltage on both wheels, turning first.
@@ -441,8 +466,10 @@ const char* kUsage =
 
 int run(const Options& o) {
     Connection conn(o.host, o.port);
-    conn.sendJson(kHello, "{\"protocol\": 1, \"role\": \"" + o.team + "\", \"name\": \"vssim example client (C++)\", "
-                          "\"images\": \"patches\", \"encoding\": \"" + o.encoding + "\"}");
+    conn.sendJson(kHello, "{\"protocol\": 1, \"role\": \"" + o.team +
+                              "\", \"name\": \"vssim example client (C++)\", "
+                              "\"images\": \"patches\", \"encoding\": \"" +
+                              o.encoding + "\"}");
     std::vector<std::uint8_t> payload;
     Json welcome;
     for (std::uint8_t type = 0; type != kWelcome;) {  // skip anything else before WELCOME
@@ -465,8 +492,9 @@ int run(const Options& o) {
     std::printf("connected to %s (%s mode) as %s: driving %s (index %d) to the ball\n", welcome["server"].str().c_str(),
                 welcome["mode"].str().c_str(), o.team.c_str(), (*robot)["name"].str().c_str(), index);
     if (welcome["mode"].str() == "lockstep" && !o.lockstep)
-        std::fprintf(stderr, "note: the server is in lockstep mode: time only advances when a client steps it "
-                             "(use --lockstep to do it from this client)\n");
+        std::fprintf(stderr,
+                     "note: the server is in lockstep mode: time only advances when a client steps it "
+                     "(use --lockstep to do it from this client)\n");
 
     cv::Mat background, image, foreground;
     int stepId = 0;  // id of our CONTROL step awaiting its REPLY (lockstep only)
@@ -478,7 +506,8 @@ int run(const Options& o) {
             const Json e = parseJson(payload);
             const bool ourStep = stepId != 0 && e["id"].type == Json::Number && e["id"].number == stepId;
             if (e["fatal"].number != 0 || ourStep)
-                throw ProtocolError(describeError(e) + (ourStep ? " (step needs `vssim serve --lockstep`, or a paused server)" : ""));
+                throw ProtocolError(describeError(e) +
+                                    (ourStep ? " (step needs `vssim serve --lockstep`, or a paused server)" : ""));
             std::fprintf(stderr, "warning: %s\n", describeError(e).c_str());  // not fatal: carry on
             continue;
         }
@@ -505,7 +534,8 @@ int run(const Options& o) {
         background.copyTo(image);
         for (const Patch& p : frame.patches) {
             const cv::Rect where(p.x, p.y, p.image.cols, p.image.rows);
-            if ((where & cv::Rect(0, 0, image.cols, image.rows)) != where) throw ProtocolError("patch outside the image");
+            if ((where & cv::Rect(0, 0, image.cols, image.rows)) != where)
+                throw ProtocolError("patch outside the image");
             p.image.copyTo(image(where));
         }
         cv::Mat difference;
@@ -518,11 +548,13 @@ int run(const Options& o) {
         const std::optional<cv::Point2d> ball = findBall(image, foreground, camera);
         double right = 0, left = 0;  // lost sight of something: wait for a better image
         if (!pose || !ball) {
-            std::snprintf(estimate, sizeof estimate, "robot %sseen, ball %sseen", pose ? "" : "not ", ball ? "" : "not ");
+            std::snprintf(estimate, sizeof estimate, "robot %sseen, ball %sseen", pose ? "" : "not ",
+                          ball ? "" : "not ");
             if (o.verbose) std::printf("frame %u t=%.3f: %s\n", frame.number, frame.time, estimate);
         } else {
             const double distance = std::hypot(ball->x - pose->x, ball->y - pose->y);
-            std::snprintf(estimate, sizeof estimate, "robot (%.3f, %.3f) ball (%.3f, %.3f)", pose->x, pose->y, ball->x, ball->y);
+            std::snprintf(estimate, sizeof estimate, "robot (%.3f, %.3f) ball (%.3f, %.3f)", pose->x, pose->y, ball->x,
+                          ball->y);
             if (distance <= reachDistance) {
                 conn.sendVoltages(index, 0, 0);
                 std::printf("reached the ball at t=%.2f s (frame %u): %s\n", frame.time, frame.number, estimate);
@@ -530,15 +562,20 @@ int run(const Options& o) {
             }
             std::tie(right, left) = controller.command(*pose, *ball);
             if (o.verbose)
-                std::printf("frame %u t=%.3f: robot (%.3f, %.3f, %.0f deg) ball (%.3f, %.3f) distance %.3f m -> "
-                            "right %+.2f V left %+.2f V\n", frame.number, frame.time, pose->x, pose->y,
-                            pose->theta * 180 / kPi, ball->x, ball->y, distance, right, left);
+                std::printf(
+                    "frame %u t=%.3f: robot (%.3f, %.3f, %.0f deg) ball (%.3f, %.3f) distance %.3f m -> "
+                    "right %+.2f V left %+.2f V\n",
+                    frame.number, frame.time, pose->x, pose->y, pose->theta * 180 / kPi, ball->x, ball->y, distance,
+                    right, left);
         }
         if (startTime < 0) startTime = frame.time;  // --max-time counts from the first image
         if (frame.time - startTime >= o.maxTime) {
             conn.sendVoltages(index, 0, 0);
-            std::fprintf(stderr, "did not reach the ball within %g s of simulated time from the first image (t=%.2f s, frame %u; "
-                                 "last estimate: %s)\n", o.maxTime, frame.time, frame.number, estimate);
+            std::fprintf(
+                stderr,
+                "did not reach the ball within %g s of simulated time from the first image (t=%.2f s, frame %u; "
+                "last estimate: %s)\n",
+                o.maxTime, frame.time, frame.number, estimate);
             return 1;
         }
         conn.sendVoltages(index, right, left);
@@ -552,27 +589,41 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         auto value = [&]() -> std::string {
-            if (i + 1 >= argc) { std::fprintf(stderr, "%s needs a value\n%s", arg.c_str(), kUsage); std::exit(2); }
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "%s needs a value\n%s", arg.c_str(), kUsage);
+                std::exit(2);
+            }
             return argv[++i];
         };
         try {
-            if (arg == "--help" || arg == "-h") { std::printf("%s", kUsage); return 0; }
-            else if (arg == "--host") o.host = value();
-            else if (arg == "--port") o.port = std::to_string(std::stoi(value()));
-            else if (arg == "--team") o.team = value();
-            else if (arg == "--robot") o.robot = std::stoi(value());
-            else if (arg == "--encoding") o.encoding = value();
-            else if (arg == "--lockstep") o.lockstep = true;
-            else if (arg == "--max-time") o.maxTime = std::stod(value());
-            else if (arg == "--verbose") o.verbose = true;
-            else throw std::invalid_argument("unknown option");
+            if (arg == "--help" || arg == "-h") {
+                std::printf("%s", kUsage);
+                return 0;
+            } else if (arg == "--host")
+                o.host = value();
+            else if (arg == "--port")
+                o.port = std::to_string(std::stoi(value()));
+            else if (arg == "--team")
+                o.team = value();
+            else if (arg == "--robot")
+                o.robot = std::stoi(value());
+            else if (arg == "--encoding")
+                o.encoding = value();
+            else if (arg == "--lockstep")
+                o.lockstep = true;
+            else if (arg == "--max-time")
+                o.maxTime = std::stod(value());
+            else if (arg == "--verbose")
+                o.verbose = true;
+            else
+                throw std::invalid_argument("unknown option");
         } catch (const std::logic_error&) {  // std::stoi/stod failures and unknown options
             std::fprintf(stderr, "bad option: %s\n%s", arg.c_str(), kUsage);
             return 2;
         }
     }
-    if ((o.team != "yellow" && o.team != "blue") || (o.encoding != "png" && o.encoding != "raw" && o.encoding != "jpeg") ||
-        o.robot < 0) {
+    if ((o.team != "yellow" && o.team != "blue") ||
+        (o.encoding != "png" && o.encoding != "raw" && o.encoding != "jpeg") || o.robot < 0) {
         std::fprintf(stderr, "bad --team, --encoding or --robot\n%s", kUsage);
         return 2;
     }

@@ -15,14 +15,14 @@ struct Bgr {
     std::uint8_t b = 0, g = 0, r = 0;
 };
 
-constexpr Bgr kFloorColour{20, 20, 20};          // the floor inside the walls
-constexpr Bgr kOutsideColour{70, 70, 70};        // everything outside the walls
-constexpr Bgr kWallColour{200, 200, 200};        // the wall lines (camera_layout.h)
-constexpr Bgr kMarkingColour{255, 255, 255};     // centre line and centre circle
-constexpr Bgr kRobotBodyColour{0, 0, 0};         // the robot's top, around its patches
-constexpr Bgr kYellowTeamColour{0, 255, 255};    // team patch of Team::Yellow
-constexpr Bgr kBlueTeamColour{255, 0, 0};        // team patch of Team::Blue
-constexpr Bgr kBallColour{0, 128, 255};          // orange
+constexpr Bgr kFloorColour{20, 20, 20};        // the floor inside the walls
+constexpr Bgr kOutsideColour{70, 70, 70};      // everything outside the walls
+constexpr Bgr kWallColour{200, 200, 200};      // the wall lines (camera_layout.h)
+constexpr Bgr kMarkingColour{255, 255, 255};   // centre line and centre circle
+constexpr Bgr kRobotBodyColour{0, 0, 0};       // the robot's top, around its patches
+constexpr Bgr kYellowTeamColour{0, 255, 255};  // team patch of Team::Yellow
+constexpr Bgr kBlueTeamColour{255, 0, 0};      // team patch of Team::Blue
+constexpr Bgr kBallColour{0, 128, 255};        // orange
 
 // Identity patch colour by the robot's index among the robots of its own
 // team, in scene order; index 6 and up start again at the top.

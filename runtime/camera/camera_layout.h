@@ -4,8 +4,8 @@
 
 namespace vssim {
 
-constexpr int kWallThicknessPx = 3;        // wall lines, centred on each Wall segment, px
-constexpr int kMarkingThicknessPx = 1;     // centre line and centre circle, px
+constexpr int kWallThicknessPx = 3;           // wall lines, centred on each Wall segment, px
+constexpr int kMarkingThicknessPx = 1;        // centre line and centre circle, px
 constexpr double kCentreCircleRadius = 0.20;  // m
 
 // A robot seen from above: a black square of side s, rotated by theta, with

@@ -44,7 +44,8 @@ cv::Rect pixelBounds(const CameraGeometry& camera, const std::array<Eigen::Vecto
 std::array<cv::Point, 4> patchPolygon(const CameraGeometry& camera, const RobotState& pose, double side,
                                       const PatchRectangle& r) {
     std::array<cv::Point, 4> polygon;
-    const std::array<Eigen::Vector2d, 4> corners{{{r.xMin, r.yMin}, {r.xMax, r.yMin}, {r.xMax, r.yMax}, {r.xMin, r.yMax}}};
+    const std::array<Eigen::Vector2d, 4> corners{
+        {{r.xMin, r.yMin}, {r.xMax, r.yMin}, {r.xMax, r.yMax}, {r.xMin, r.yMax}}};
     for (std::size_t k = 0; k < corners.size(); ++k) {
         const Eigen::Vector2d p = fromRobotFrame(pose, side * corners[k]);
         polygon[k] = drawingPoint(camera, p.x(), p.y());

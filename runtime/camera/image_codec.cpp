@@ -49,9 +49,9 @@ bool checkHeader(const std::uint8_t* data, std::size_t n, ImageEncoding encoding
 
 const char* encodingName(ImageEncoding encoding) {
     switch (encoding) {
-    case ImageEncoding::Raw: return "raw";
-    case ImageEncoding::Png: return "png";
-    case ImageEncoding::Jpeg: return "jpeg";
+        case ImageEncoding::Raw: return "raw";
+        case ImageEncoding::Png: return "png";
+        case ImageEncoding::Jpeg: return "jpeg";
     }
     return "?";
 }
@@ -66,24 +66,24 @@ std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding
     if (bgr.type() != CV_8UC3) throw std::invalid_argument("encodeImage: expected a CV_8UC3 BGR image");
     std::vector<std::uint8_t> bytes;
     switch (encoding) {
-    case ImageEncoding::Raw: {
-        const std::size_t rowBytes = std::size_t(bgr.cols) * 3;
-        bytes.resize(rowBytes * std::size_t(bgr.rows));
-        for (int row = 0; row < bgr.rows; ++row) std::memcpy(bytes.data() + row * rowBytes, bgr.ptr(row), rowBytes);
-        break;
-    }
-    case ImageEncoding::Png:
-        cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, kPngCompressionLevel});
-        break;
-    case ImageEncoding::Jpeg:
-        cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, std::clamp(jpegQuality, 1, 100)});
-        break;
+        case ImageEncoding::Raw: {
+            const std::size_t rowBytes = std::size_t(bgr.cols) * 3;
+            bytes.resize(rowBytes * std::size_t(bgr.rows));
+            for (int row = 0; row < bgr.rows; ++row) std::memcpy(bytes.data() + row * rowBytes, bgr.ptr(row), rowBytes);
+            break;
+        }
+        case ImageEncoding::Png:
+            cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, kPngCompressionLevel});
+            break;
+        case ImageEncoding::Jpeg:
+            cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, std::clamp(jpegQuality, 1, 100)});
+            break;
     }
     return bytes;
 }
 
-bool decodeImage(const std::uint8_t* data, std::size_t n, ImageEncoding encoding, int width, int height,
-                 cv::Mat& out, std::string* error) {
+bool decodeImage(const std::uint8_t* data, std::size_t n, ImageEncoding encoding, int width, int height, cv::Mat& out,
+                 std::string* error) {
     const char* name = encodingName(encoding);
     if (width <= 0 || height <= 0 || width > (1 << 16) || height > (1 << 16))
         return fail(error, std::string(name) + ": bad image size " + sizeText(width, height));

@@ -33,7 +33,7 @@ std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding
 // to exactly width x height. On failure returns false, leaves `out` as it
 // was and, when error is not null, sets it to a one-line reason. Never
 // throws on bad data.
-bool decodeImage(const std::uint8_t* data, std::size_t n, ImageEncoding encoding, int width, int height,
-                 cv::Mat& out, std::string* error);
+bool decodeImage(const std::uint8_t* data, std::size_t n, ImageEncoding encoding, int width, int height, cv::Mat& out,
+                 std::string* error);
 
 }  // namespace vssim

@@ -11,8 +11,8 @@ std::vector<cv::Mat> cropPatches(const cv::Mat& frame, const std::vector<cv::Rec
 
 bool pastePatch(cv::Mat& canvas, const cv::Rect& rect, const cv::Mat& patch) {
     if (rect.empty()) return patch.empty();
-    const bool inside = rect.x >= 0 && rect.y >= 0 && rect.width <= canvas.cols - rect.x &&
-                        rect.height <= canvas.rows - rect.y;
+    const bool inside =
+        rect.x >= 0 && rect.y >= 0 && rect.width <= canvas.cols - rect.x && rect.height <= canvas.rows - rect.y;
     if (!inside || patch.size() != rect.size() || patch.type() != canvas.type()) return false;
     patch.copyTo(canvas(rect));
     return true;

@@ -28,8 +28,8 @@ void CsvWriter::writeSample(const Simulation& simulation) {
         appendNumber(s.time);
         buffer_ += ',';
         buffer_ += scene.robots[i].name.c_str();
-        for (double value : {r.x, r.y, r.theta, r.v, r.omega, e.right, e.left, o.wheel_speed_right,
-                             o.wheel_speed_left, o.current_right, o.current_left}) {
+        for (double value : {r.x, r.y, r.theta, r.v, r.omega, e.right, e.left, o.wheel_speed_right, o.wheel_speed_left,
+                             o.current_right, o.current_left}) {
             buffer_ += ',';
             appendNumber(value);
         }

@@ -1,8 +1,8 @@
 // CSV output of a headless run: one row per body per sample time.
 #pragma once
 
-#include <QIODevice>
 #include <QByteArray>
+#include <QIODevice>
 
 #include "vssim/world.h"
 

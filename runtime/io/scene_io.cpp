@@ -18,8 +18,8 @@ namespace {
 constexpr double kMaxCommandTime = 1e9;  // s (about 32 years): beyond it step indices lose meaning
 
 // Name <-> value tables, one place each.
-const std::pair<const char*, Integrator> kIntegrators[] = {{"euler", Integrator::Euler}, {"rk4", Integrator::Rk4},
-                                                            {"exact", Integrator::Exact}};
+const std::pair<const char*, Integrator> kIntegrators[] = {
+    {"euler", Integrator::Euler}, {"rk4", Integrator::Rk4}, {"exact", Integrator::Exact}};
 const std::pair<const char*, CollisionModel> kCollisionModels[] = {{"paper", CollisionModel::Paper},
                                                                    {"impulse", CollisionModel::Impulse}};
 const std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
@@ -66,8 +66,8 @@ private:
     bool number(const QJsonObject& o, const QString& path, const char* key, Range range, double* out);
     bool string(const QJsonObject& o, const QString& path, const char* key, QString* out);
     template <typename T, std::size_t N>
-    bool choice(const QJsonObject& o, const QString& path, const char* key,
-                const std::pair<const char*, T> (&table)[N], T* out);
+    bool choice(const QJsonObject& o, const QString& path, const char* key, const std::pair<const char*, T> (&table)[N],
+                T* out);
 
     bool field(const QJsonObject& root, Scene& scene);
     bool simulation(const QJsonObject& root, Scene& scene);
@@ -138,7 +138,8 @@ bool SceneReader::choice(const QJsonObject& o, const QString& path, const char* 
     if (!o.contains(QLatin1String(key))) return true;
     if (!string(o, path, key, &name)) return false;
     const std::optional<T> value = valueOf(table, name);
-    if (!value) return fail(join(path, key), QStringLiteral("expected one of %1 (got \"%2\")").arg(choices(table), name));
+    if (!value)
+        return fail(join(path, key), QStringLiteral("expected one of %1 (got \"%2\")").arg(choices(table), name));
     *out = *value;
     return true;
 }
@@ -148,7 +149,8 @@ bool SceneReader::field(const QJsonObject& root, Scene& scene) {
     QJsonObject o;
     double length = scene.field.length, width = scene.field.width;
     if (!object(root.value("field"), "field", &o) || !keys(o, "field", {"length", "width"}) ||
-        !number(o, "field", "length", Range::Positive, &length) || !number(o, "field", "width", Range::Positive, &width))
+        !number(o, "field", "length", Range::Positive, &length) ||
+        !number(o, "field", "width", Range::Positive, &width))
         return false;
     scene.field = makeRectangularField(length, width);
     return true;
@@ -179,8 +181,9 @@ bool SceneReader::motor(const QJsonObject& o, const QString& path, MotorParams& 
 }
 
 bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotParams& p, bool* inertiaGiven) {
-    if (!keys(o, path, {"side", "mass", "inertia", "wheel_base", "friction_linear", "friction_angular", "max_voltage",
-                        "right", "left"}) ||
+    if (!keys(o, path,
+              {"side", "mass", "inertia", "wheel_base", "friction_linear", "friction_angular", "max_voltage", "right",
+               "left"}) ||
         !number(o, path, "side", Range::Positive, &p.side) || !number(o, path, "mass", Range::Positive, &p.mass) ||
         !number(o, path, "inertia", Range::Positive, &p.inertia) ||
         !number(o, path, "wheel_base", Range::Positive, &p.wheel_base) ||
@@ -189,7 +192,8 @@ bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotPa
         !number(o, path, "max_voltage", Range::Positive, &p.max_voltage))
         return false;
     *inertiaGiven = *inertiaGiven || o.contains("inertia");
-    for (const auto& [key, motorParams] : {std::pair<const char*, MotorParams*>{"right", &p.right}, {"left", &p.left}}) {
+    for (const auto& [key, motorParams] :
+         {std::pair<const char*, MotorParams*>{"right", &p.right}, {"left", &p.left}}) {
         if (!o.contains(QLatin1String(key))) continue;
         QJsonObject m;
         if (!object(o.value(QLatin1String(key)), join(path, key), &m) || !motor(m, join(path, key), *motorParams))
@@ -221,8 +225,7 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
     for (int i = 0; i < list.size(); ++i) {
         const QString path = QStringLiteral("robots[%1]").arg(i);
         QJsonObject o;
-        if (!object(list[i], path, &o) ||
-            !keys(o, path, {"name", "team", "x", "y", "theta", "v", "omega", "params"}))
+        if (!object(list[i], path, &o) || !keys(o, path, {"name", "team", "x", "y", "theta", "v", "omega", "params"}))
             return false;
         RobotSpec r;
         r.params = defaults;
@@ -247,9 +250,10 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
         // Names are written unquoted in CSV rows, where "ball" names the ball.
         for (const QChar ch : name)
             if (ch == ',' || ch == '"' || ch.category() == QChar::Other_Control)
-                return fail(join(path, "name"),
-                            QStringLiteral("\"%1\" may not contain commas, quotes or control characters (it names CSV rows)")
-                                .arg(name));
+                return fail(
+                    join(path, "name"),
+                    QStringLiteral("\"%1\" may not contain commas, quotes or control characters (it names CSV rows)")
+                        .arg(name));
         if (name == QLatin1String("ball"))
             return fail(join(path, "name"), QStringLiteral("\"ball\" is reserved for the ball"));
         if (names.contains(name)) return fail(join(path, "name"), QStringLiteral("duplicate name \"%1\"").arg(name));
@@ -340,21 +344,32 @@ std::optional<Scene> SceneReader::read(const QJsonObject& root) {
 QString lineAndColumn(const QByteArray& text, int offset) {
     int line = 1, column = 1;
     for (int i = 0; i < offset && i < text.size(); ++i) {
-        if (text[i] == '\n') ++line, column = 1;
-        else ++column;
+        if (text[i] == '\n')
+            ++line, column = 1;
+        else
+            ++column;
     }
     return QStringLiteral("line %1, column %2").arg(line).arg(column);
 }
 
 QJsonObject motorJson(const MotorParams& m) {
-    return {{"wheel_radius", m.wheel_radius}, {"resistance", m.resistance}, {"k", m.k},
-            {"rotor_inertia", m.rotor_inertia}, {"friction", m.friction}};
+    return {{"wheel_radius", m.wheel_radius},
+            {"resistance", m.resistance},
+            {"k", m.k},
+            {"rotor_inertia", m.rotor_inertia},
+            {"friction", m.friction}};
 }
 
 QJsonObject robotParamsJson(const RobotParams& p) {
-    return {{"side", p.side}, {"mass", p.mass}, {"inertia", p.inertia}, {"wheel_base", p.wheel_base},
-            {"friction_linear", p.friction_linear}, {"friction_angular", p.friction_angular},
-            {"max_voltage", p.max_voltage}, {"right", motorJson(p.right)}, {"left", motorJson(p.left)}};
+    return {{"side", p.side},
+            {"mass", p.mass},
+            {"inertia", p.inertia},
+            {"wheel_base", p.wheel_base},
+            {"friction_linear", p.friction_linear},
+            {"friction_angular", p.friction_angular},
+            {"max_voltage", p.max_voltage},
+            {"right", motorJson(p.right)},
+            {"left", motorJson(p.left)}};
 }
 
 }  // namespace
@@ -403,22 +418,34 @@ QByteArray sceneToJson(const Scene& scene) {
     root["version"] = 1;
     root["field"] = QJsonObject{{"length", scene.field.length}, {"width", scene.field.width}};
     const SimulationSettings& s = scene.simulation;
-    root["simulation"] = QJsonObject{{"integrator", integratorName(s.integrator)}, {"dt", s.dt},
+    root["simulation"] = QJsonObject{{"integrator", integratorName(s.integrator)},
+                                     {"dt", s.dt},
                                      {"collision_model", collisionModelName(s.collision_model)},
                                      {"restitution", s.restitution}};
-    root["ball"] = QJsonObject{{"x", scene.ball.x}, {"y", scene.ball.y}, {"vx", scene.ball.vx}, {"vy", scene.ball.vy},
-                               {"mass", scene.ball_params.mass}, {"radius", scene.ball_params.radius},
+    root["ball"] = QJsonObject{{"x", scene.ball.x},
+                               {"y", scene.ball.y},
+                               {"vx", scene.ball.vx},
+                               {"vy", scene.ball.vy},
+                               {"mass", scene.ball_params.mass},
+                               {"radius", scene.ball_params.radius},
                                {"friction", scene.ball_params.friction}};
     QJsonArray robots;
     for (const RobotSpec& r : scene.robots)
-        robots.append(QJsonObject{{"name", QString::fromStdString(r.name)}, {"team", teamName(r.team)},
-                                  {"x", r.initial.x}, {"y", r.initial.y}, {"theta", r.initial.theta},
-                                  {"v", r.initial.v}, {"omega", r.initial.omega}, {"params", robotParamsJson(r.params)}});
+        robots.append(QJsonObject{{"name", QString::fromStdString(r.name)},
+                                  {"team", teamName(r.team)},
+                                  {"x", r.initial.x},
+                                  {"y", r.initial.y},
+                                  {"theta", r.initial.theta},
+                                  {"v", r.initial.v},
+                                  {"omega", r.initial.omega},
+                                  {"params", robotParamsJson(r.params)}});
     root["robots"] = robots;
     QJsonArray commands;
     for (const VoltageCommand& c : scene.commands)
-        commands.append(QJsonObject{{"t", c.t}, {"robot", QString::fromStdString(scene.robots[c.robot].name)},
-                                    {"right", c.voltages.right}, {"left", c.voltages.left}});
+        commands.append(QJsonObject{{"t", c.t},
+                                    {"robot", QString::fromStdString(scene.robots[c.robot].name)},
+                                    {"right", c.voltages.right},
+                                    {"left", c.voltages.left}});
     root["commands"] = commands;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
@@ -432,8 +459,8 @@ QStringList builtinSceneNames() {
 
 QString resolveScenePath(const QString& argument) {
     if (QFileInfo(argument).isFile()) return argument;
-    for (const QString& candidate : {QStringLiteral(":/scenes/%1").arg(argument),
-                                     QStringLiteral(":/scenes/%1.json").arg(argument)})
+    for (const QString& candidate :
+         {QStringLiteral(":/scenes/%1").arg(argument), QStringLiteral(":/scenes/%1.json").arg(argument)})
         if (!argument.contains('/') && QFileInfo(candidate).isFile()) return candidate;
     return {};
 }

@@ -75,7 +75,11 @@ public:
         double value = 0;
         if (!number(key, &value, fallback)) return false;
         if (value != std::floor(value) || value < min || value > max)
-            return malformed(QStringLiteral("\"%1\" is %2; expected a whole number from %3 to %4").arg(key).arg(value).arg(min).arg(max));
+            return malformed(QStringLiteral("\"%1\" is %2; expected a whole number from %3 to %4")
+                                 .arg(key)
+                                 .arg(value)
+                                 .arg(min)
+                                 .arg(max));
         *out = static_cast<int>(value);
         return true;
     }
@@ -93,8 +97,8 @@ public:
     bool choice(const QString& key, const std::pair<const char*, T> (&table)[N], std::optional<T> fallback, T* out) {
         QStringList names;
         for (const auto& [name, value] : table) names << QStringLiteral("\"%1\"").arg(name);
-        const QString expected = names.size() > 1 ? names.mid(0, names.size() - 1).join(", ") + " or " + names.last()
-                                                  : names.join("");
+        const QString expected =
+            names.size() > 1 ? names.mid(0, names.size() - 1).join(", ") + " or " + names.last() : names.join("");
         const QJsonValue v = json_.value(key);
         if (v.isUndefined() && fallback) {
             *out = *fallback;
@@ -107,7 +111,8 @@ public:
                 return true;
             }
         }
-        return malformed(QStringLiteral("\"%1\" is \"%2\"; expected %3").arg(key, printableText(v.toString(), 40), expected));
+        return malformed(
+            QStringLiteral("\"%1\" is \"%2\"; expected %3").arg(key, printableText(v.toString(), 40), expected));
     }
 
     bool robotIndex(const Scene& scene, int* out) {
@@ -115,7 +120,8 @@ public:
         if (!number(QStringLiteral("robot"), &index)) return false;
         if (index != std::floor(index) || index < 0 || index >= static_cast<double>(scene.robots.size()))
             return fail(QStringLiteral("bad_robot"), QStringLiteral("no robot %1 (the scene has robots 0 to %2)")
-                                                         .arg(index).arg(static_cast<int>(scene.robots.size()) - 1));
+                                                         .arg(index)
+                                                         .arg(static_cast<int>(scene.robots.size()) - 1));
         *out = static_cast<int>(index);
         return true;
     }
@@ -149,7 +155,7 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
     }
     if (version.toDouble() != 1.0) {
         in.fail("unsupported_protocol",
-                       QStringLiteral("protocol %1 is not supported (this server speaks 1)").arg(version.toDouble()));
+                QStringLiteral("protocol %1 is not supported (this server speaks 1)").arg(version.toDouble()));
         return failed();
     }
     // Keys are checked after the version: a later version's HELLO may have new ones.
@@ -177,22 +183,31 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
 std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Voltages>>& entries, const Scene& scene,
                                           ClientRole role) {
     if (role == ClientRole::Observer)
-        return RequestError{"not_your_robot", "VOLTAGES: an observer cannot drive robots (say HELLO as \"yellow\" or \"blue\")"};
+        return RequestError{"not_your_robot",
+                            "VOLTAGES: an observer cannot drive robots (say HELLO as \"yellow\" or \"blue\")"};
     const Team team = role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const auto& [robot, e] = entries[i];
         const QString where = QStringLiteral("VOLTAGES entry %1").arg(i);
         if (robot < 0 || robot >= static_cast<int>(scene.robots.size()))
             return RequestError{"bad_robot", QStringLiteral("%1: no robot %2 (the scene has robots 0 to %3)")
-                                                 .arg(where).arg(robot).arg(static_cast<int>(scene.robots.size()) - 1)};
+                                                 .arg(where)
+                                                 .arg(robot)
+                                                 .arg(static_cast<int>(scene.robots.size()) - 1)};
         if (scene.robots[robot].team != team)
             return RequestError{"not_your_robot", QStringLiteral("%1: robot %2 (%3) belongs to the other team")
-                                                      .arg(where).arg(robot).arg(QString::fromStdString(scene.robots[robot].name))};
+                                                      .arg(where)
+                                                      .arg(robot)
+                                                      .arg(QString::fromStdString(scene.robots[robot].name))};
         for (auto [side, volts] : {std::pair{"right", e.right}, std::pair{"left", e.left}})
             if (!std::isfinite(volts))
                 return RequestError{"not_finite", QStringLiteral("%1: robot %2 %3 voltage is %4")
-                                                      .arg(where).arg(robot).arg(side)
-                                                      .arg(std::isnan(volts) ? "NaN" : volts > 0 ? "+infinity" : "-infinity")};
+                                                      .arg(where)
+                                                      .arg(robot)
+                                                      .arg(side)
+                                                      .arg(std::isnan(volts) ? "NaN"
+                                                           : volts > 0       ? "+infinity"
+                                                                             : "-infinity")};
     }
     return std::nullopt;
 }
@@ -216,14 +231,17 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
     const Field& field = scene.field;
     if (r.command == "pause" || r.command == "resume" || r.command == "reset" || r.command == "stats") {
         if (!in.keys(base)) return failed();
-        r.kind = r.command == "pause" ? Kind::Pause : r.command == "resume" ? Kind::Resume
-               : r.command == "reset" ? Kind::Reset : Kind::Stats;
+        r.kind = r.command == "pause"    ? Kind::Pause
+                 : r.command == "resume" ? Kind::Resume
+                 : r.command == "reset"  ? Kind::Reset
+                                         : Kind::Stats;
     } else if (r.command == "step") {
         r.kind = Kind::Step;
         if (!in.keys(base + QStringList{"duration"}) || !in.number("duration", &r.duration)) return failed();
         if (!(r.duration > 0 && r.duration <= kMaxStepDuration)) {
             in.malformed(QStringLiteral("\"duration\" is %1 s; expected more than 0 and at most %2 s")
-                                    .arg(QString::number(r.duration, 'g', QLocale::FloatingPointShortest)).arg(kMaxStepDuration));
+                             .arg(QString::number(r.duration, 'g', QLocale::FloatingPointShortest))
+                             .arg(kMaxStepDuration));
             return failed();
         }
     } else if (r.command == "place_robot") {
@@ -235,12 +253,19 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
             return failed();
         if (std::abs(p.v) > kMaxPlacedRobotSpeed || std::abs(p.omega) > kMaxPlacedYawRate) {
             in.malformed(QStringLiteral("|v| must be at most %1 m/s and |omega| at most %2 rad/s")
-                                    .arg(kMaxPlacedRobotSpeed).arg(kMaxPlacedYawRate));
+                             .arg(kMaxPlacedRobotSpeed)
+                             .arg(kMaxPlacedYawRate));
             return failed();
         }
         if (!robotInsideField(field, scene.robots[r.robot].params.side, p.x, p.y, p.theta)) {
-            in.fail("outside_field", QStringLiteral("robot %1 at (%2, %3) m, heading %4 rad, would not lie inside the %5 x %6 m field")
-                                                .arg(r.robot).arg(p.x).arg(p.y).arg(p.theta).arg(field.length).arg(field.width));
+            in.fail("outside_field",
+                    QStringLiteral("robot %1 at (%2, %3) m, heading %4 rad, would not lie inside the %5 x %6 m field")
+                        .arg(r.robot)
+                        .arg(p.x)
+                        .arg(p.y)
+                        .arg(p.theta)
+                        .arg(field.length)
+                        .arg(field.width));
             return failed();
         }
     } else if (r.command == "place_ball") {
@@ -255,7 +280,10 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
         }
         if (!discInsideField(field, scene.ball_params.radius, b.x, b.y)) {
             in.fail("outside_field", QStringLiteral("the ball at (%1, %2) m would not lie inside the %3 x %4 m field")
-                                                .arg(b.x).arg(b.y).arg(field.length).arg(field.width));
+                                         .arg(b.x)
+                                         .arg(b.y)
+                                         .arg(field.length)
+                                         .arg(field.width));
             return failed();
         }
     } else if (r.command == "speed") {
@@ -268,13 +296,14 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
             r.speed = speed.toDouble();
         } else {
             in.malformed(QStringLiteral("\"speed\" must be a number from %1 to %2 (times real time) or \"max\"")
-                                    .arg(kMinSpeed).arg(kMaxSpeed));
+                             .arg(kMinSpeed)
+                             .arg(kMaxSpeed));
             return failed();
         }
     } else {
-        *error = {"unknown_command",
-                  QStringLiteral("CONTROL: unknown command \"%1\" (expected pause, resume, step, reset, place_robot, place_ball, speed or stats)")
-                      .arg(printableText(r.command, 40))};
+        *error = {"unknown_command", QStringLiteral("CONTROL: unknown command \"%1\" (expected pause, resume, step, "
+                                                    "reset, place_robot, place_ball, speed or stats)")
+                                         .arg(printableText(r.command, 40))};
         return std::nullopt;
     }
     return r;

@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "wire/frame_packet.h"
 #include "realtime/engine_request.h"
 #include "vssim/scene.h"
+#include "wire/frame_packet.h"
 
 namespace vssim {
 

@@ -4,8 +4,8 @@
 #include <QTcpSocket>
 #include <QTimer>
 
-#include "realtime/monotonic_clock.h"
 #include "io/scene_io.h"
+#include "realtime/monotonic_clock.h"
 
 namespace vssim {
 
@@ -51,9 +51,9 @@ struct ControlServer::Client {
     std::int64_t framesDropped = 0;
     int errorsLogged = 0;
     std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
-    bool statsPending = false;  // one `stats` at a time per client (each sorts thousands of samples)
-    bool robotsStopped = false; // its team's robots got 0 V when it was dropped
-    std::int64_t commands = 0;     // VOLTAGES accepted
+    bool statsPending = false;   // one `stats` at a time per client (each sorts thousands of samples)
+    bool robotsStopped = false;  // its team's robots got 0 V when it was dropped
+    std::int64_t commands = 0;   // VOLTAGES accepted
     std::int64_t framesSent = 0;
     std::int64_t connectedNs = 0;  // monotonicNs() at connection
 };
@@ -102,7 +102,9 @@ ControlServer::~ControlServer() {
 bool ControlServer::listen(QString* error) {
     if (!server_.listen(settings_.address, settings_.port)) {
         *error = QStringLiteral("cannot listen on %1:%2: %3")
-                     .arg(settings_.address.toString()).arg(settings_.port).arg(server_.errorString());
+                     .arg(settings_.address.toString())
+                     .arg(settings_.port)
+                     .arg(server_.errorString());
         return false;
     }
     return true;
@@ -112,9 +114,10 @@ void ControlServer::log(const Client& client, const QString& text) {
     emit logLine(QStringLiteral("client %1 (%2%3): %4")
                      .arg(client.id)
                      .arg(client.peer)
-                     .arg(client.greeted ? QStringLiteral(", ") + roleName(client.hello.role) +
-                                               (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
-                                         : QString())
+                     .arg(client.greeted
+                              ? QStringLiteral(", ") + roleName(client.hello.role) +
+                                    (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
+                              : QString())
                      .arg(text));
 }
 
@@ -145,11 +148,17 @@ void ControlServer::accept() {
         connect(c.helloTimer, &QTimer::timeout, this, [this, id] {
             auto it = clients_.find(id);
             if (it != clients_.end() && !it->second->greeted)
-                sendError(*it->second, {"hello_timeout", QStringLiteral("no HELLO within %1 s of connecting").arg(settings_.helloTimeoutMs / 1000.0)}, true);
+                sendError(*it->second,
+                          {"hello_timeout",
+                           QStringLiteral("no HELLO within %1 s of connecting").arg(settings_.helloTimeoutMs / 1000.0)},
+                          true);
         });
         c.helloTimer->start(settings_.helloTimeoutMs);
         if (static_cast<int>(clients_.size()) > settings_.maxClients)
-            sendError(c, {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)}, true);
+            sendError(
+                c,
+                {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)},
+                true);
     }
 }
 
@@ -160,18 +169,18 @@ void ControlServer::readFrom(Client& client) {
     std::uint32_t length = 0;
     while (!client.closing) {
         switch (client.reader.next(&message, &length)) {
-            case protocol::MessageReader::Status::NeedMore:
-                return;
+            case protocol::MessageReader::Status::NeedMore: return;
             case protocol::MessageReader::Status::Oversize:
-                sendError(client, {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
-                                                   .arg(length).arg(protocol::kMaxClientMessage)}, true);
+                sendError(client,
+                          {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
+                                           .arg(length)
+                                           .arg(protocol::kMaxClientMessage)},
+                          true);
                 return;
             case protocol::MessageReader::Status::Empty:
                 sendError(client, {"malformed", "message length 0 (a message has at least its type byte)"}, true);
                 return;
-            case protocol::MessageReader::Status::Message:
-                handle(client, message, arrivalNs);
-                break;
+            case protocol::MessageReader::Status::Message: handle(client, message, arrivalNs); break;
         }
     }
 }
@@ -181,8 +190,10 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
     const auto type = static_cast<MessageType>(message.type);
     if (!client.greeted) {
         if (type != MessageType::Hello) {
-            sendError(client, {"hello_required", QStringLiteral("the first message must be HELLO (type 0x01), got type 0x%1")
-                                                     .arg(message.type, 2, 16, QChar('0'))}, true);
+            sendError(client,
+                      {"hello_required", QStringLiteral("the first message must be HELLO (type 0x01), got type 0x%1")
+                                             .arg(message.type, 2, 16, QChar('0'))},
+                      true);
             return;
         }
         QString jsonError;
@@ -202,7 +213,8 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             QString layoutError;
             const auto entries = protocol::decodeVoltages(message.payload, &layoutError);
             if (!entries) return sendError(client, {"malformed", layoutError}, false);
-            if (const auto error = checkVoltages(*entries, scene_, client.hello.role)) return sendError(client, *error, false);
+            if (const auto error = checkVoltages(*entries, scene_, client.hello.role))
+                return sendError(client, *error, false);
             EngineRequest request;
             request.kind = EngineRequest::Kind::Voltages;
             request.arrivalNs = arrivalNs;
@@ -210,8 +222,12 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             request.voltages = *entries;
             ++client.commands;
             if (!post(client, std::move(request)))
-                sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
-                                               .arg(kMaxQueuedPerClient)}, false);
+                sendError(
+                    client,
+                    {"busy", QStringLiteral(
+                                 "more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
+                                 .arg(kMaxQueuedPerClient)},
+                    false);
             return;
         }
         case MessageType::Control: {
@@ -226,16 +242,24 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             request->id = json->value("id");
             const bool stats = request->kind == EngineRequest::Kind::Stats;
             if (stats && client.statsPending)
-                return sendError(client, {"busy", "CONTROL stats: the previous stats request is not answered yet"}, false, request->id);
+                return sendError(client, {"busy", "CONTROL stats: the previous stats request is not answered yet"},
+                                 false, request->id);
             if (!post(client, std::move(*request)))
-                return sendError(client, {"busy", QStringLiteral("more than %1 of this client's requests are waiting for the engine; CONTROL dropped")
-                                                      .arg(kMaxQueuedPerClient)}, false, json->value("id"));
+                return sendError(
+                    client,
+                    {"busy", QStringLiteral(
+                                 "more than %1 of this client's requests are waiting for the engine; CONTROL dropped")
+                                 .arg(kMaxQueuedPerClient)},
+                    false, json->value("id"));
             if (stats) client.statsPending = true;
             return;
         }
         default:
-            sendError(client, {"unknown_type", QStringLiteral("unknown message type 0x%1 (%2 payload bytes skipped)")
-                                                   .arg(message.type, 2, 16, QChar('0')).arg(message.payload.size())}, false);
+            sendError(client,
+                      {"unknown_type", QStringLiteral("unknown message type 0x%1 (%2 payload bytes skipped)")
+                                           .arg(message.type, 2, 16, QChar('0'))
+                                           .arg(message.payload.size())},
+                      false);
     }
 }
 
@@ -255,7 +279,11 @@ void ControlServer::greet(Client& client, const QJsonObject& json) {
     if (hello->role != ClientRole::Observer) {
         for (const auto& [id, other] : clients_) {
             if (other.get() != &client && other->greeted && !other->closing && other->hello.role == hello->role)
-                return sendError(client, {"role_taken", QStringLiteral("client %1 already drives the %2 team").arg(id).arg(roleName(hello->role))}, true);
+                return sendError(
+                    client,
+                    {"role_taken",
+                     QStringLiteral("client %1 already drives the %2 team").arg(id).arg(roleName(hello->role))},
+                    true);
         }
     }
     client.hello = *hello;
@@ -294,10 +322,13 @@ QJsonObject ControlServer::welcome(const Client& client) const {
                                   {"max_voltage", r.params.max_voltage}});
     }
     const CameraGeometry& camera = background_.geometry();
-    QJsonObject cameraJson{{"width", camera.width},       {"height", camera.height},
-                           {"scale", camera.scale},       {"centre_u", camera.centreU},
+    QJsonObject cameraJson{{"width", camera.width},
+                           {"height", camera.height},
+                           {"scale", camera.scale},
+                           {"centre_u", camera.centreU},
                            {"centre_v", camera.centreV}};
-    cameraJson["images"] = client.hello.images ? (client.hello.images->kind == protocol::FrameKind::Full ? "full" : "patches") : "none";
+    cameraJson["images"] =
+        client.hello.images ? (client.hello.images->kind == protocol::FrameKind::Full ? "full" : "patches") : "none";
     if (client.hello.images) cameraJson["encoding"] = encodingName(client.hello.images->encoding);
     const double dt = scene_.simulation.dt;
     const double framePeriod = engine_.framePeriod();
@@ -323,10 +354,14 @@ QJsonObject ControlServer::welcome(const Client& client) const {
 void ControlServer::sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
     if (client.closing) return;
     if (client.errorsLogged < 20) {
-        log(client, QStringLiteral("%1 error %2: %3").arg(fatal ? "fatal" : "").arg(error.code, error.message).trimmed());
+        log(client,
+            QStringLiteral("%1 error %2: %3").arg(fatal ? "fatal" : "").arg(error.code, error.message).trimmed());
         if (++client.errorsLogged == 20) log(client, "further errors from this client are not logged");
     }
-    QJsonObject json{{"error", error.code}, {"message", error.message}, {"fatal", fatal}, {"id", id.isUndefined() ? QJsonValue() : id}};
+    QJsonObject json{{"error", error.code},
+                     {"message", error.message},
+                     {"fatal", fatal},
+                     {"id", id.isUndefined() ? QJsonValue() : id}};
     send(client, protocol::encodeJsonMessage(protocol::MessageType::Error, json));
     if (fatal) drop(client, QStringLiteral("closed after a fatal %1 error").arg(error.code));
 }
@@ -334,7 +369,8 @@ void ControlServer::sendError(Client& client, const RequestError& error, bool fa
 void ControlServer::send(Client& client, const QByteArray& bytes) {
     if (client.closing) return;
     if (client.socket->bytesToWrite() + bytes.size() > settings_.maxUnsentBytes) {
-        drop(client, QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)").arg(settings_.maxUnsentBytes >> 20));
+        drop(client, QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)")
+                         .arg(settings_.maxUnsentBytes >> 20));
         return;
     }
     client.socket->write(bytes);
@@ -427,7 +463,7 @@ void ControlServer::drop(Client& client, const QString& why) {
     if (client.closing) return;
     log(client, why);
     client.closing = true;
-    stopRobots(client);  // now, as its role is free from now on
+    stopRobots(client);                   // now, as its role is free from now on
     client.socket->disconnectFromHost();  // after the unsent bytes (the error reply) are written
     // A client that never reads would keep the connection open: close hard
     // after a grace period.
@@ -452,8 +488,10 @@ void ControlServer::forget(int id) {
     auto it = clients_.find(id);
     if (it == clients_.end()) return;
     Client& client = *it->second;
-    log(client, client.framesDropped > 0 ? QStringLiteral("disconnected (%1 frames dropped: it did not read fast enough)").arg(client.framesDropped)
-                                         : QStringLiteral("disconnected"));
+    log(client,
+        client.framesDropped > 0
+            ? QStringLiteral("disconnected (%1 frames dropped: it did not read fast enough)").arg(client.framesDropped)
+            : QStringLiteral("disconnected"));
     stopRobots(client);
     client.socket->deleteLater();
     clients_.erase(it);

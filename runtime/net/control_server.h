@@ -35,11 +35,11 @@ struct ServerSettings {
 // One connected client, for a connections panel.
 struct ClientInfo {
     int id = 0;
-    QString peer;         // address:port
+    QString peer;  // address:port
     bool greeted = false;
-    QString role;         // yellow, blue, observer
+    QString role;  // yellow, blue, observer
     QString name;
-    QString images;       // e.g. "patches/png", or "none"
+    QString images;  // e.g. "patches/png", or "none"
     bool state = false;
     std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
     double connectedSeconds = 0.0;
@@ -83,7 +83,7 @@ private:
     void flushPending(Client& client);
     void drop(Client& client, const QString& why);
     void forget(int id);
-    void stopRobots(Client& client);            // 0 V to a team client's robots, once
+    void stopRobots(Client& client);                   // 0 V to a team client's robots, once
     bool post(Client& client, EngineRequest request);  // false: its quota or the queue is full
     void drainEngine();
     void updateSubscriptions();

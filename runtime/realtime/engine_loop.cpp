@@ -62,9 +62,7 @@ std::int64_t EngineLoop::nextWakeNs() const {
     return static_cast<std::int64_t>(wakeNs);
 }
 
-void EngineLoop::emitInstant(std::int64_t nowNs) {
-    sink_.cameraInstant(*sim_, frame_, nowNs);
-}
+void EngineLoop::emitInstant(std::int64_t nowNs) { sink_.cameraInstant(*sim_, frame_, nowNs); }
 
 void EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
     while (nextFrameStep_ <= target) {
@@ -178,9 +176,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             restartClock(r.arrivalNs, nowNs);
             break;
         }
-        case Kind::Pause:
-            paused_ = true;
-            break;
+        case Kind::Pause: paused_ = true; break;
         case Kind::Resume:
             if (paused_) {
                 paused_ = false;
@@ -201,21 +197,15 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             for (RobotControl& c : control_) c.lastTcp = Voltages{};
             restart(r.arrivalNs, nowNs);
             break;
-        case Kind::PlaceRobot:
-            sim_->placeRobot(r.robot, r.robotPose);
-            break;
-        case Kind::PlaceBall:
-            sim_->placeBall(r.ball);
-            break;
+        case Kind::PlaceRobot: sim_->placeRobot(r.robot, r.robotPose); break;
+        case Kind::PlaceBall: sim_->placeBall(r.ball); break;
         case Kind::Speed:
-            if (mode_ == RunMode::Lockstep)
-                return replyTo(r, "lockstep", "the speed cannot change in lockstep mode");
+            if (mode_ == RunMode::Lockstep) return replyTo(r, "lockstep", "the speed cannot change in lockstep mode");
             mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;
             if (r.speed > 0) speed_ = r.speed;
             reanchor(r.arrivalNs);
             break;
-        case Kind::Stats:
-        {
+        case Kind::Stats: {
             StatsReport report;
             report.commandLatencyMs = stats_.commandLatencyMs.summary();
             report.commandDelayMs = stats_.commandDelayMs.summary();

@@ -49,9 +49,9 @@ public:
 
 struct EngineLoopSettings {
     RunMode mode = RunMode::Realtime;
-    double speed = 1.0;          // real-time factor (realtime mode), > 0
-    double framePeriod = 0.03;   // camera period, s of simulated time (rounded to whole steps)
-    double maxLag = 0.5;         // s of wall time: further behind than this, realtime drops the lag
+    double speed = 1.0;         // real-time factor (realtime mode), > 0
+    double framePeriod = 0.03;  // camera period, s of simulated time (rounded to whole steps)
+    double maxLag = 0.5;        // s of wall time: further behind than this, realtime drops the lag
 };
 
 // The real-time factors a realtime loop accepts (faster: max mode).
@@ -62,10 +62,10 @@ constexpr std::int64_t kMaxFramesPerPass = 4;
 
 // What the loop measured (wall-clock figures in ms).
 struct EngineLoopStats {
-    SampleStats commandLatencyMs;  // from a voltage command's arrival to its application, wall clock
-    SampleStats commandDelayMs;    // simulated time from arrival instant to the step it took effect at
-    std::int64_t lateCommands = 0; // commands that arrived for an instant already simulated
-    std::int64_t lagResets = 0;    // times realtime fell more than maxLag behind and dropped the lag
+    SampleStats commandLatencyMs;   // from a voltage command's arrival to its application, wall clock
+    SampleStats commandDelayMs;     // simulated time from arrival instant to the step it took effect at
+    std::int64_t lateCommands = 0;  // commands that arrived for an instant already simulated
+    std::int64_t lagResets = 0;     // times realtime fell more than maxLag behind and dropped the lag
 };
 
 class EngineLoop {
@@ -105,10 +105,10 @@ private:
     RunMode mode_;
     bool paused_ = false;
     double speed_;
-    std::int64_t frameSteps_;       // steps of dt per frame period
-    std::int64_t frame_ = 0;        // camera instants since start/reset
-    std::int64_t nextFrameStep_;    // step index of the next camera instant
-    std::int64_t anchorNs_ = 0;     // wall time at which the simulation was at anchorStep_
+    std::int64_t frameSteps_;     // steps of dt per frame period
+    std::int64_t frame_ = 0;      // camera instants since start/reset
+    std::int64_t nextFrameStep_;  // step index of the next camera instant
+    std::int64_t anchorNs_ = 0;   // wall time at which the simulation was at anchorStep_
     std::int64_t anchorStep_ = 0;
     EngineLoopStats stats_;
 
@@ -128,8 +128,8 @@ private:
     void restart(std::int64_t arrivalNs, std::int64_t nowNs);
     // Frame 0 now (emitted), the clock anchored at arrivalNs.
     void restartClock(std::int64_t arrivalNs, std::int64_t nowNs);
-    void replyTo(const EngineRequest& request, const QString& error = {},
-                 const QString& message = {}, std::optional<StatsReport> stats = std::nullopt);
+    void replyTo(const EngineRequest& request, const QString& error = {}, const QString& message = {},
+                 std::optional<StatsReport> stats = std::nullopt);
 };
 
 }  // namespace vssim

@@ -8,9 +8,9 @@
 #include <QJsonValue>
 #include <QString>
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <optional>
-#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -33,25 +33,32 @@ constexpr double kMaxStepDuration = 3600.0;
 
 struct EngineRequest {
     enum class Kind {
-        Voltages,       // from a TCP client (`client`); ignored for robots under manual control
-        ManualVoltages, // from a person (keyboard, gamepad): the robots go under manual control
-        ReleaseManual,  // `robot` back to TCP control: its last TCP voltages (0 V if none) apply again
-        Pause, Resume, Step, Reset, PlaceRobot, PlaceBall, Speed, Stats,
-        LoadScene,      // replace the scene (`scene`) and start it from its beginning
-        SetSettings,    // `scene->simulation` (integrator, dt, collisions): the bodies stay where they
-                        // are, with their velocities and voltages; the clock restarts at 0
+        Voltages,        // from a TCP client (`client`); ignored for robots under manual control
+        ManualVoltages,  // from a person (keyboard, gamepad): the robots go under manual control
+        ReleaseManual,   // `robot` back to TCP control: its last TCP voltages (0 V if none) apply again
+        Pause,
+        Resume,
+        Step,
+        Reset,
+        PlaceRobot,
+        PlaceBall,
+        Speed,
+        Stats,
+        LoadScene,    // replace the scene (`scene`) and start it from its beginning
+        SetSettings,  // `scene->simulation` (integrator, dt, collisions): the bodies stay where they
+                      // are, with their velocities and voltages; the clock restarts at 0
     };
     Kind kind = Kind::Voltages;
-    std::int64_t arrivalNs = 0;  // monotonicNs() when the message arrived
-    int client = -1;             // the server's client number; -1: no reply wanted
-    QJsonValue id;               // the client's request id, echoed in the reply
-    QString command;             // the CONTROL command's name, echoed
+    std::int64_t arrivalNs = 0;                      // monotonicNs() when the message arrived
+    int client = -1;                                 // the server's client number; -1: no reply wanted
+    QJsonValue id;                                   // the client's request id, echoed in the reply
+    QString command;                                 // the CONTROL command's name, echoed
     std::vector<std::pair<int, Voltages>> voltages;  // Voltages: (robot index, V)
-    double duration = 0.0;       // Step: simulated seconds (> 0)
-    double speed = 1.0;          // Speed: real-time factor (> 0); 0 means as fast as possible
-    int robot = -1;              // PlaceRobot: robot index
-    RobotState robotPose;        // PlaceRobot: m, rad, m/s, rad/s
-    BallState ball;              // PlaceBall: m, m/s
+    double duration = 0.0;                           // Step: simulated seconds (> 0)
+    double speed = 1.0;                              // Speed: real-time factor (> 0); 0 means as fast as possible
+    int robot = -1;                                  // PlaceRobot: robot index
+    RobotState robotPose;                            // PlaceRobot: m, rad, m/s, rad/s
+    BallState ball;                                  // PlaceBall: m, m/s
     // The sender's count of requests queued and not yet handled: the engine
     // decrements it after handling (a per-client quota against floods).
     std::shared_ptr<std::atomic<int>> queued;
@@ -63,10 +70,10 @@ struct EngineReply {
     QJsonValue id;
     QString command;
     bool ok = true;
-    QString error;    // error code when !ok (protocol.md, ERROR)
-    QString message;  // human-readable, when !ok
-    double time = 0.0;          // simulated time after the request, s
-    std::int64_t frame = 0;     // camera instant number after the request
+    QString error;                     // error code when !ok (protocol.md, ERROR)
+    QString message;                   // human-readable, when !ok
+    double time = 0.0;                 // simulated time after the request, s
+    std::int64_t frame = 0;            // camera instant number after the request
     std::optional<StatsReport> stats;  // a `stats` request's measurements, filled in on the way
 };
 

@@ -19,9 +19,7 @@ EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& setting
     snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, sceneShared_, 0.0, monotonicNs())));
 }
 
-double EngineThread::framePeriod() const {
-    return framePeriod_.load();
-}
+double EngineThread::framePeriod() const { return framePeriod_.load(); }
 
 EngineThread::~EngineThread() {
     requestStop();
@@ -50,9 +48,7 @@ void EngineThread::requestStop() {
         stop_ = true;
     }
     wake_.notify_one();
-    {
-        std::lock_guard lock(outboxMutex_);
-    }
+    { std::lock_guard lock(outboxMutex_); }
     framesTaken_.notify_all();
 }
 

@@ -20,8 +20,8 @@
 #include "camera/camera_renderer.h"
 #include "realtime/engine_loop.h"
 #include "realtime/frame_encoder.h"
-#include "wire/frame_packet.h"
 #include "realtime/snapshot.h"
+#include "wire/frame_packet.h"
 
 namespace vssim {
 
@@ -49,10 +49,10 @@ public:
     void requestStop();
 
     static constexpr std::size_t kMaxQueuedRequests = 10000;
-    static constexpr std::size_t kMaxQueuedFrames = 64;    // in the outbox; beyond, the oldest go
-    static constexpr std::size_t kMaxRequestsPerPass = 256; // handled between two runUntil calls
-    static constexpr int kMaxPendingFrames = 4;             // rendered and not yet taken; beyond, instants are not rendered
-    double framePeriod() const;                             // s: the camera period in whole steps
+    static constexpr std::size_t kMaxQueuedFrames = 64;      // in the outbox; beyond, the oldest go
+    static constexpr std::size_t kMaxRequestsPerPass = 256;  // handled between two runUntil calls
+    static constexpr int kMaxPendingFrames = 4;  // rendered and not yet taken; beyond, instants are not rendered
+    double framePeriod() const;                  // s: the camera period in whole steps
 
 signals:
     // The outbox went from empty to not empty (emitted from the engine thread).
@@ -68,9 +68,9 @@ private:
 
     const Scene scene_;
     const EngineLoopSettings settings_;
-    CameraRenderer renderer_;               // engine thread (after construction)
+    CameraRenderer renderer_;                   // engine thread (after construction)
     std::shared_ptr<const Scene> sceneShared_;  // engine thread: the scene in snapshots
-    std::atomic<double> framePeriod_{0.03};  // s
+    std::atomic<double> framePeriod_{0.03};     // s
     SnapshotBuffer snapshots_;
 
     std::mutex mutex_;
@@ -89,10 +89,11 @@ private:
     // Engine-thread only.
     std::int64_t lastInstantNs_ = -1;
     SampleStats framePeriodMs_, renderMs_;
-    SampleStats patchPercent_;  // the patches' total area, % of the image
-    std::int64_t framesSkipped_ = 0;     // max mode: instants not rendered, the previous frame being still on its way
-    std::int64_t framesDropped_ = 0;     // dropped from a full outbox (a stalled reader); push() only, on the encoder thread
-    const EngineLoop* loop_ = nullptr;   // while run() runs
+    SampleStats patchPercent_;        // the patches' total area, % of the image
+    std::int64_t framesSkipped_ = 0;  // max mode: instants not rendered, the previous frame being still on its way
+    std::int64_t framesDropped_ =
+        0;  // dropped from a full outbox (a stalled reader); push() only, on the encoder thread
+    const EngineLoop* loop_ = nullptr;       // while run() runs
     std::unique_ptr<FrameEncoder> encoder_;  // while run() runs
 };
 

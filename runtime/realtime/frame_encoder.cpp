@@ -13,7 +13,6 @@ QString subscriptionName(const ImageSubscription& s) {
     return name;
 }
 
-
 FrameEncoder::FrameEncoder(std::function<void(std::shared_ptr<const FramePacket>, std::optional<EngineReply>)> deliver)
     : deliver_(std::move(deliver)), thread_([this] { run(); }) {}
 
@@ -71,7 +70,8 @@ std::shared_ptr<const FramePacket> FrameEncoder::encode(const EncodeJob& job) {
         header.encoding = s.encoding;
         std::vector<protocol::FramePatch> patches;
         if (s.kind == protocol::FrameKind::Full) {
-            patches.push_back({0, 0, job.image.cols, job.image.rows, encodeImage(job.image, s.encoding, s.jpegQuality)});
+            patches.push_back(
+                {0, 0, job.image.cols, job.image.rows, encodeImage(job.image, s.encoding, s.jpegQuality)});
         } else {
             for (const cv::Rect& r : job.patches) {
                 protocol::FramePatch p{r.x, r.y, r.width, r.height, {}};
@@ -79,7 +79,8 @@ std::shared_ptr<const FramePacket> FrameEncoder::encode(const EncodeJob& job) {
                 patches.push_back(std::move(p));
             }
         }
-        QByteArray message = protocol::encodeMessage(protocol::MessageType::Frame, protocol::encodeFrame(header, patches));
+        QByteArray message =
+            protocol::encodeMessage(protocol::MessageType::Frame, protocol::encodeFrame(header, patches));
         const QString name = subscriptionName(s);
         encodeMs_[name].add(1e-6 * static_cast<double>(monotonicNs() - startNs));
         frameBytes_[name].add(static_cast<double>(message.size()));

@@ -17,19 +17,19 @@
 #include <vector>
 
 #include "realtime/engine_request.h"
-#include "wire/frame_packet.h"
 #include "realtime/sample_stats.h"
+#include "wire/frame_packet.h"
 
 namespace vssim {
 
 struct EncodeJob {
     std::optional<EngineReply> reply;  // a reply to pass on in order, or a camera instant:
     std::int64_t frame = 0;
-    double time = 0.0;                 // s
-    cv::Mat image;                     // the rendered frame (empty when only the state is wanted)
-    std::vector<cv::Rect> patches;     // CameraRenderer::render's patches
+    double time = 0.0;              // s
+    cv::Mat image;                  // the rendered frame (empty when only the state is wanted)
+    std::vector<cv::Rect> patches;  // CameraRenderer::render's patches
     std::vector<ImageSubscription> subscriptions;
-    QByteArray state;                  // the complete STATE message, or empty
+    QByteArray state;  // the complete STATE message, or empty
 };
 
 class FrameEncoder {
@@ -50,7 +50,7 @@ private:
     bool stop_ = false;
     // Encoder thread only.
     std::map<QString, SampleStats> encodeMs_, frameBytes_;  // per subscription ("patches/png", ...)
-    std::thread thread_;  // last: starts after everything above exists
+    std::thread thread_;                                    // last: starts after everything above exists
 };
 
 }  // namespace vssim

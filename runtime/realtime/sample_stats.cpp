@@ -6,8 +6,12 @@
 namespace vssim {
 
 QJsonObject toJson(const SampleSummary& s) {
-    return QJsonObject{{"count", static_cast<double>(s.count)}, {"median", s.median}, {"p99", s.p99},
-                       {"max", s.max},   {"mean", s.mean},   {"stddev", s.stddev}};
+    return QJsonObject{{"count", static_cast<double>(s.count)},
+                       {"median", s.median},
+                       {"p99", s.p99},
+                       {"max", s.max},
+                       {"mean", s.mean},
+                       {"stddev", s.stddev}};
 }
 
 void SampleStats::add(double value) {
@@ -34,7 +38,9 @@ SampleSummary SampleStats::summary() const {
     std::sort(sorted.begin(), sorted.end());
     const std::size_t n = sorted.size();
     // Nearest-rank percentiles.
-    auto rank = [&](double q) { return sorted[std::min(n - 1, static_cast<std::size_t>(std::ceil(q * n)) - (q > 0 ? 1 : 0))]; };
+    auto rank = [&](double q) {
+        return sorted[std::min(n - 1, static_cast<std::size_t>(std::ceil(q * n)) - (q > 0 ? 1 : 0))];
+    };
     s.median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
     s.p99 = rank(0.99);
     s.max = sorted.back();

@@ -11,7 +11,7 @@
 namespace vssim {
 
 struct SampleSummary {
-    std::int64_t count = 0;  // samples ever added
+    std::int64_t count = 0;                                               // samples ever added
     double median = 0.0, p99 = 0.0, max = 0.0, mean = 0.0, stddev = 0.0;  // over the kept ones
 };
 

@@ -16,20 +16,20 @@
 namespace vssim {
 
 struct Snapshot {
-    double time = 0.0;              // simulated time, s
-    std::int64_t step = 0;          // steps of dt taken
-    std::int64_t frame = 0;         // camera instants since start/reset
+    double time = 0.0;       // simulated time, s
+    std::int64_t step = 0;   // steps of dt taken
+    std::int64_t frame = 0;  // camera instants since start/reset
     RunMode mode = RunMode::Realtime;
     bool paused = false;
-    double speed = 1.0;             // real-time factor (realtime mode)
-    std::vector<RobotState> robots;      // m, rad, m/s, rad/s
-    std::vector<Voltages> voltages;      // applied, V
-    std::vector<RobotOutputs> outputs;   // wheel speeds (rad/s), currents (A), torques (N m)
+    double speed = 1.0;                 // real-time factor (realtime mode)
+    std::vector<RobotState> robots;     // m, rad, m/s, rad/s
+    std::vector<Voltages> voltages;     // applied, V
+    std::vector<RobotOutputs> outputs;  // wheel speeds (rad/s), currents (A), torques (N m)
     BallState ball;
     std::vector<RobotControl> control;   // who drives each robot
     std::shared_ptr<const Scene> scene;  // the scene being run (changes only on LoadScene)
-    double stepCost = 0.0;          // wall seconds spent per simulated second over the last pass
-    std::int64_t publishedNs = 0;   // monotonicNs() at publication
+    double stepCost = 0.0;               // wall seconds spent per simulated second over the last pass
+    std::int64_t publishedNs = 0;        // monotonicNs() at publication
 };
 
 // `scene`: the loop's scene, shared between snapshots until it changes.

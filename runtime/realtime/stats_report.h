@@ -19,9 +19,9 @@ struct StatsReport {
     std::int64_t lateCommands = 0;   // applied after their arrival instant had passed
     std::int64_t lagResets = 0;      // times the engine fell too far behind and dropped the lag
     // EngineThread: camera instants.
-    SampleSummary framePeriodMs;     // between camera instants, wall clock, ms
-    SampleSummary renderMs;          // rendering one image, ms
-    SampleSummary patchAreaPercent;  // patches' share of the image, %
+    SampleSummary framePeriodMs;           // between camera instants, wall clock, ms
+    SampleSummary renderMs;                // rendering one image, ms
+    SampleSummary patchAreaPercent;        // patches' share of the image, %
     std::int64_t framesSkipped = 0;        // max mode: instants not rendered
     std::int64_t framesDroppedUnsent = 0;  // dropped from a full outbox (a stalled server thread)
     // FrameEncoder: per subscription ("patches/png", ...).

@@ -28,9 +28,9 @@ QString subscriptionName(const ImageSubscription& s);
 
 struct FramePacket {
     std::int64_t frame = 0;
-    double time = 0.0;  // s
+    double time = 0.0;                                             // s
     std::vector<std::pair<ImageSubscription, QByteArray>> images;  // complete FRAME messages
-    QByteArray state;   // complete STATE message; empty when nobody subscribed
+    QByteArray state;  // complete STATE message; empty when nobody subscribed
 };
 
 }  // namespace vssim

@@ -32,12 +32,21 @@ void putF64(QByteArray& out, double v) {
 // Bounds-checked big-endian reading of a payload.
 class Cursor {
 public:
-    explicit Cursor(const QByteArray& bytes) : p_(reinterpret_cast<const unsigned char*>(bytes.constData())), n_(bytes.size()) {}
+    explicit Cursor(const QByteArray& bytes)
+        : p_(reinterpret_cast<const unsigned char*>(bytes.constData())), n_(bytes.size()) {}
     bool has(std::size_t k) const { return n_ - at_ >= k; }
     std::size_t left() const { return n_ - at_; }
     std::uint8_t u8() { return p_[at_++]; }
-    std::uint16_t u16() { auto v = qFromBigEndian<std::uint16_t>(p_ + at_); at_ += 2; return v; }
-    std::uint32_t u32() { auto v = qFromBigEndian<std::uint32_t>(p_ + at_); at_ += 4; return v; }
+    std::uint16_t u16() {
+        auto v = qFromBigEndian<std::uint16_t>(p_ + at_);
+        at_ += 2;
+        return v;
+    }
+    std::uint32_t u32() {
+        auto v = qFromBigEndian<std::uint32_t>(p_ + at_);
+        at_ += 4;
+        return v;
+    }
     double f64() {
         const auto bits = qFromBigEndian<std::uint64_t>(p_ + at_);
         at_ += 8;
@@ -45,7 +54,11 @@ public:
         std::memcpy(&v, &bits, 8);
         return v;
     }
-    const unsigned char* take(std::size_t k) { const unsigned char* q = p_ + at_; at_ += k; return q; }
+    const unsigned char* take(std::size_t k) {
+        const unsigned char* q = p_ + at_;
+        at_ += k;
+        return q;
+    }
 
 private:
     const unsigned char* p_;
@@ -102,8 +115,7 @@ std::optional<QJsonObject> parseJsonObject(const QByteArray& payload, QString* e
 }
 
 QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries) {
-    if (entries.empty() || entries.size() > 255)
-        throw std::invalid_argument("encodeVoltages: 1 to 255 entries");
+    if (entries.empty() || entries.size() > 255) throw std::invalid_argument("encodeVoltages: 1 to 255 entries");
     QByteArray out;
     putU8(out, static_cast<std::uint8_t>(entries.size()));
     for (const auto& [robot, e] : entries) {
@@ -126,7 +138,9 @@ std::optional<std::vector<std::pair<int, Voltages>>> decodeVoltages(const QByteA
     if (count == 0 || payload.size() != want) {
         *error = count == 0 ? QStringLiteral("VOLTAGES: count is 0")
                             : QStringLiteral("VOLTAGES: %1 entries need %2 payload bytes, got %3")
-                                  .arg(count).arg(want).arg(payload.size());
+                                  .arg(count)
+                                  .arg(want)
+                                  .arg(payload.size());
         return std::nullopt;
     }
     std::vector<std::pair<int, Voltages>> entries;
@@ -200,7 +214,11 @@ bool decodeFrame(const QByteArray& payload, FrameHeader* header, std::vector<Fra
         p.h = c.u16();
         const std::uint32_t n = c.u32();
         if (!c.has(n)) {
-            *error = QStringLiteral("FRAME: patch %1 of %2 declares %3 bytes, %4 left").arg(i).arg(count).arg(n).arg(c.left());
+            *error = QStringLiteral("FRAME: patch %1 of %2 declares %3 bytes, %4 left")
+                         .arg(i)
+                         .arg(count)
+                         .arg(n)
+                         .arg(c.left());
             return false;
         }
         const unsigned char* d = c.take(n);

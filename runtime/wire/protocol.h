@@ -18,8 +18,8 @@ namespace vssim::protocol {
 
 constexpr int kVersion = 1;
 constexpr std::uint16_t kDefaultPort = 10030;
-constexpr std::uint32_t kMaxClientMessage = 65536;   // bytes after the length field
-constexpr std::uint32_t kMaxServerMessage = 1u << 26; // 64 MiB, for clients' readers
+constexpr std::uint32_t kMaxClientMessage = 65536;     // bytes after the length field
+constexpr std::uint32_t kMaxServerMessage = 1u << 26;  // 64 MiB, for clients' readers
 
 enum class MessageType : std::uint8_t {
     Hello = 0x01,

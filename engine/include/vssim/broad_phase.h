@@ -27,7 +27,7 @@ constexpr int kBroadPhaseMinRobots = 16;
 // `scratch` is reused between calls: it keeps the previous order along x,
 // which a world that moves a little per step only needs to touch up.
 struct BroadPhaseScratch {
-    std::vector<int> order;   // robots by increasing left edge
+    std::vector<int> order;    // robots by increasing left edge
     std::vector<double> minX;  // left edges, m
 };
 void candidatePairs(const std::vector<RobotState>& robots, const std::vector<double>& sides, double margin,

@@ -27,8 +27,8 @@ std::optional<Contact> robotWallContact(const RobotState& robot, double side, in
 // Ball (a) against robot (b): cheap rejection by centre distance, then the
 // distance to each side segment (paper eqs. 10-11); a ball centre inside the
 // square is pushed out through the nearest face.
-std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex,
-                                        const BallState& ball, double radius);
+std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex, const BallState& ball,
+                                        double radius);
 
 // Robot a against robot b: depth and normal from the separating-axis test;
 // the contact point from the paper's vertex-inside tests, or, when no vertex

@@ -32,9 +32,9 @@ constexpr double kPanelDecay = 1.0;  // the most |lambda| h_panel may be (fastes
 
 // One kind of panel: its length and the flows to its quadrature nodes.
 struct ExactPanel {
-    double length = 0.0;  // s
-    int repeat = 1;       // how many such panels follow each other
-    LinearFlow flow;      // flow over the whole panel
+    double length = 0.0;                        // s
+    int repeat = 1;                             // how many such panels follow each other
+    LinearFlow flow;                            // flow over the whole panel
     std::array<LinearFlow, kGaussNodes> nodes;  // flow from the panel's start to each node
     std::array<double, kGaussNodes> weights{};  // quadrature weights times the length, s
 };
@@ -48,8 +48,8 @@ struct ExactPanel {
 // long as the equal ones, then goes on with equal ones. Every mode's panels
 // then stay short while it is still large.
 struct ExactStepTable {
-    double h = 0.0;   // whole step, s
-    int panels = 1;   // panels asked for (the heading criterion)
+    double h = 0.0;                 // whole step, s
+    int panels = 1;                 // panels asked for (the heading criterion)
     std::vector<ExactPanel> kinds;  // in order
 };
 

@@ -16,11 +16,11 @@ namespace vssim {
 // integrator; for Euler and RK4 a cruder one, see free_bodies.cpp; the ball's
 // straight free flight) and discs that hold each body at any heading.
 struct FreeBodies {
-    std::vector<char> robots;         // 1: robot i is free for the horizon
-    bool ball = false;                // the ball is free
-    bool all = false;                 // every body is free
-    std::vector<double> robotTravel;  // farthest any point of robot i can go within the horizon, m
-    double ballTravel = 0.0;          // m
+    std::vector<char> robots;                // 1: robot i is free for the horizon
+    bool ball = false;                       // the ball is free
+    bool all = false;                        // every body is free
+    std::vector<double> robotTravel;         // farthest any point of robot i can go within the horizon, m
+    double ballTravel = 0.0;                 // m
     std::vector<std::pair<int, int>> pairs;  // work buffers
     BroadPhaseScratch broadPhase;
 };

@@ -26,12 +26,11 @@ std::array<Eigen::Vector2d, 4> robotVertices(const RobotState& pose, double side
 // The closest point of segment [a, b] to p (paper eqs. 10-11): lambda of the
 // projection clamped to [0, 1].
 struct SegmentClosestPoint {
-    double lambda = 0.0;      // clamped parameter along a -> b
+    double lambda = 0.0;                              // clamped parameter along a -> b
     Eigen::Vector2d point = Eigen::Vector2d::Zero();  // a + lambda (b - a), m
-    double distance = 0.0;    // |p - point|, m
+    double distance = 0.0;                            // |p - point|, m
 };
-SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                                          const Eigen::Vector2d& p);
+SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p);
 
 // p expressed in the robot's frame (x forward, y to the left), m.
 Eigen::Vector2d toRobotFrame(const RobotState& pose, const Eigen::Vector2d& p);

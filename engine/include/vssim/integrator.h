@@ -17,8 +17,7 @@ enum class Integrator {
 // Advances one robot by h seconds under constant (already clamped) voltages e.
 // For Integrator::Exact this builds the step's table each call; the world
 // precomputes and reuses them instead (exact_integrator.h).
-void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h,
-                    Integrator method);
+void integrateRobot(const RobotModel& model, RobotState& state, const Voltages& e, double h, Integrator method);
 
 // The longest step, s, for which `method` is stable on a linear system whose
 // fastest mode decays at `fastestRate` (1/s, e.g. RobotModel::fastestRate):

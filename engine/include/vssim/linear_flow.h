@@ -20,7 +20,7 @@
 namespace vssim {
 
 struct LinearFlow {
-    double t = 0.0;                                   // s
+    double t = 0.0;                                     // s
     Eigen::Matrix2d Phi = Eigen::Matrix2d::Identity();  // exp(A t), dimensionless
     Eigen::Matrix2d Psi = Eigen::Matrix2d::Zero();      // int_0^t exp(A s) ds, s
     Eigen::Matrix2d Omega = Eigen::Matrix2d::Zero();    // int_0^t Psi(s) ds, s^2

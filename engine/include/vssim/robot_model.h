@@ -12,14 +12,14 @@ namespace vssim {
 
 struct RobotModel {
     RobotParams params;
-    Eigen::Matrix2d Tw;     // wheel speeds (w_d, w_e) -> body velocity (v, w)
-    Eigen::Matrix2d TwInv;  // body velocity -> wheel speeds
-    Eigen::Matrix2d M;      // generalized mass matrix, [kg, kg m; kg m, kg m^2]
-    Eigen::Matrix2d B;      // generalized damping matrix
-    Eigen::Matrix2d K;      // voltage input matrix
-    Eigen::Matrix2d Minv;   // M^-1
-    Eigen::Matrix2d A;      // -M^-1 B: u' = A u + G e
-    Eigen::Matrix2d G;      // M^-1 K
+    Eigen::Matrix2d Tw;          // wheel speeds (w_d, w_e) -> body velocity (v, w)
+    Eigen::Matrix2d TwInv;       // body velocity -> wheel speeds
+    Eigen::Matrix2d M;           // generalized mass matrix, [kg, kg m; kg m, kg m^2]
+    Eigen::Matrix2d B;           // generalized damping matrix
+    Eigen::Matrix2d K;           // voltage input matrix
+    Eigen::Matrix2d Minv;        // M^-1
+    Eigen::Matrix2d A;           // -M^-1 B: u' = A u + G e
+    Eigen::Matrix2d G;           // M^-1 K
     Eigen::Matrix2d steadyGain;  // B^-1 K: u_inf = steadyGain e, [m/(V s); rad/(V s)]
 
     // The two modes of the velocity dynamics: exp(A t) = sum_k e^(rate_k t) P_k.
@@ -38,8 +38,7 @@ RobotModel makeRobotModel(const RobotParams& params);
 Voltages clampVoltages(const RobotParams& params, const Voltages& e);
 
 // u' = A u + G e, the velocity part of eq. 8.
-Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2d& u,
-                                   const Voltages& e);
+Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2d& u, const Voltages& e);
 
 // u_inf = B^-1 K e, the steady state under constant voltages.
 Eigen::Vector2d steadyStateVelocity(const RobotModel& model, const Voltages& e);
@@ -79,7 +78,6 @@ struct RobotOutputs {
     double torque_left = 0.0;        // tau_e, N m
 };
 
-RobotOutputs computeRobotOutputs(const RobotModel& model, const RobotState& state,
-                                 const Voltages& e);
+RobotOutputs computeRobotOutputs(const RobotModel& model, const RobotState& state, const Voltages& e);
 
 }  // namespace vssim

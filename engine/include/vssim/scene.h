@@ -18,35 +18,36 @@ enum class Team { Yellow, Blue };
 
 struct SimulationSettings {
     Integrator integrator = Integrator::Rk4;
-    double dt = 0.001;                                 // fixed step h, s
+    double dt = 0.001;  // fixed step h, s
     CollisionModel collision_model = CollisionModel::Paper;
-    double restitution = 1.0;                          // epsilon in [0, 1], impulse model only
+    double restitution = 1.0;  // epsilon in [0, 1], impulse model only
     // Work-skipping switches (results do not depend on them beyond rounding;
     // they exist for benchmarks and tests, not scene files).
-    bool broad_phase = true;  // sweep-and-prune robot pairs instead of all pairs from kBroadPhaseMinRobots robots on (broad_phase.h)
-    bool long_steps = true;   // exact integrator: one long step where no contact is possible (world.h)
+    bool broad_phase =
+        true;  // sweep-and-prune robot pairs instead of all pairs from kBroadPhaseMinRobots robots on (broad_phase.h)
+    bool long_steps = true;  // exact integrator: one long step where no contact is possible (world.h)
 };
 
 struct RobotSpec {
-    std::string name;      // unique, e.g. "yellow0"
+    std::string name;  // unique, e.g. "yellow0"
     Team team = Team::Yellow;
     RobotParams params;
-    RobotState initial;    // pose and body velocity at t = 0
+    RobotState initial;  // pose and body velocity at t = 0
 };
 
 // A voltage change: from the first step boundary at or after time t, the
 // robot's motors see (right, left) volts until its next command.
 struct VoltageCommand {
-    double t = 0.0;        // s
-    int robot = 0;         // index into Scene::robots
-    Voltages voltages;     // V (clamped to +-max_voltage when applied)
+    double t = 0.0;     // s
+    int robot = 0;      // index into Scene::robots
+    Voltages voltages;  // V (clamped to +-max_voltage when applied)
 };
 
 struct Scene {
     Field field = makeRectangularField(1.50, 1.30);
     SimulationSettings simulation;
     BallParams ball_params;
-    BallState ball;        // initial ball state
+    BallState ball;  // initial ball state
     std::vector<RobotSpec> robots;
     std::vector<VoltageCommand> commands;  // any order; applied in time order, ties in file order
 };

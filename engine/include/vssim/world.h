@@ -32,11 +32,11 @@ struct StepReport {
 
 // What Simulation::advanceTo did.
 struct AdvanceReport {
-    std::int64_t steps = 0;       // steps of dt advanced
-    std::int64_t stepCalls = 0;   // ordinary steps (integration + contacts)
-    std::int64_t longSteps = 0;   // contact-free long steps (exact integrator), each several dt
-    std::int64_t replans = 0;     // stretches planned again: a contact brought a body near a free one
-    std::int64_t contacts = 0;    // contacts found, summed over the steps
+    std::int64_t steps = 0;      // steps of dt advanced
+    std::int64_t stepCalls = 0;  // ordinary steps (integration + contacts)
+    std::int64_t longSteps = 0;  // contact-free long steps (exact integrator), each several dt
+    std::int64_t replans = 0;    // stretches planned again: a contact brought a body near a free one
+    std::int64_t contacts = 0;   // contacts found, summed over the steps
 };
 
 // Advances the state by h seconds under its current voltages: integrate every
@@ -135,7 +135,7 @@ private:
     }
     // Bodies frozen at the start of a stretch: where, and how far they may go.
     struct FrozenStart {
-        std::vector<char> frozen;    // per body, robots then the ball
+        std::vector<char> frozen;        // per body, robots then the ball
         std::vector<RobotState> robots;  // the robots at the start of the stretch
         BallState ball;
         std::vector<double> x, y;    // m

@@ -25,8 +25,8 @@ struct WorldModel {
 WorldModel makeWorldModel(const Scene& scene);
 
 struct WorldState {
-    std::int64_t step = 0;           // steps taken; simulated time = step * dt
-    double time = 0.0;               // s, always step * dt (not accumulated)
+    std::int64_t step = 0;  // steps taken; simulated time = step * dt
+    double time = 0.0;      // s, always step * dt (not accumulated)
     std::vector<RobotState> robots;
     std::vector<Voltages> voltages;  // applied (clamped) voltages of each robot, V
     BallState ball;
