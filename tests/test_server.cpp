@@ -222,7 +222,8 @@ private slots:
         QCOMPARE(keys,
                  (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
                               "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
-                              "frames_skipped", "lag_resets", "late_commands", "patch_area_percent", "render_ms"}));
+                              "frames_skipped", "image_age_ms", "lag_resets", "late_commands", "patch_area_percent",
+                              "render_ms"}));
         QCOMPARE(stats["clients"].toInt(), 1);
         QVERIFY(stats["frame_bytes"].isObject() && stats["encode_ms"].isObject());  // no images subscribed: empty
         QVERIFY(stats["command_latency_ms"].toObject().contains("p99"));
@@ -569,6 +570,50 @@ private slots:
         QCOMPARE(delay["count"].toInt(), 40);
         QVERIFY2(delay["median"].toDouble() <= 1.0 + 1e-9, qPrintable(QString::number(delay["median"].toDouble())));
         QVERIFY(stats["late_commands"].toInt() < 20);
+    }
+
+    void aSlowReaderGetsThePresent() {
+        // Real time: a client that stops reading for a while (a slow vision
+        // step) has at most about one frame waiting for it in the server,
+        // not a backlog of old ones; when it reads again, what it can read
+        // ends with a frame of the present.
+        Served served(kickoff(), RunMode::Realtime);
+        // Full PNG images (about 15 kB each): the kernel's socket buffers hold
+        // a few hundred kB, so after 50 frame periods the server has to choose.
+        auto slow = join(served.port(), helloJson("observer", "full", "png"));
+        QVERIFY(slow);
+        std::int64_t largestFrame = 0;
+        for (int round = 0; round < 3; ++round) {
+            slow->setReading(false);
+            QTest::qWait(1500);  // "processing" for 50 frame periods
+            const std::vector<ClientInfo> clients = served.server->clients();
+            QCOMPARE(clients.size(), std::size_t(1));
+            // Held for it: the frame the socket is writing and the newest one, no more.
+            QVERIFY2(clients[0].unsentBytes <= 2 * std::max<std::int64_t>(largestFrame, 32 << 10),
+                     qPrintable(QString("%1 bytes unsent").arg(clients[0].unsentBytes)));
+            slow->setReading(true);
+            // Read for 60 ms and act on the newest frame, as a slow client should.
+            QTest::qWait(60);
+            std::optional<Frame> newest;
+            while (auto r = slow->poll()) {
+                if (r->message.type != std::uint8_t(MessageType::Frame)) continue;
+                largestFrame = std::max<std::int64_t>(largestFrame, r->message.payload.size());
+                newest = decode(r->message);
+            }
+            QVERIFY(newest);
+            const double now = served.engine->snapshots().latest()->time;
+            // Within two frame periods (60 ms) of the present, and far from the 1.5 s it slept.
+            QVERIFY2(now - newest->header.time <= 0.06 + 1e-9,
+                     qPrintable(QString("image %1 s old").arg(now - newest->header.time)));
+        }
+        QVERIFY(served.server->clients()[0].framesDropped > 0);
+        // The server's own measure: frames handed to sockets within a few ms of their instant.
+        slow->sendJson(MessageType::Control, controlJson("stats"));
+        const auto reply = slow->nextOf(MessageType::Reply);
+        QVERIFY(reply);
+        const QJsonObject age = jsonPayload(reply->message)["stats"].toObject()["image_age_ms"].toObject();
+        QVERIFY(age["count"].toInt() > 0);
+        QVERIFY2(age["median"].toDouble() < 30.0, qPrintable(QString::number(age["median"].toDouble())));
     }
 
     void framesKeepComingDespiteAFloodAndASleeper() {

@@ -15,6 +15,7 @@
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 #include <unistd.h>
@@ -258,6 +259,12 @@ public:
         putF64(p, left);
         send(kVoltages, p);
     }
+    // Whether another message has already arrived (a newer image, usually).
+    bool moreWaiting() const {
+        pollfd p{fd_, POLLIN, 0};
+        return poll(&p, 1, 0) > 0 && (p.revents & POLLIN);
+    }
+
     int sendStep() {  // CONTROL step with a fresh id, echoed in its REPLY or ERROR
         int id = nextId_++;
         char json[96];
@@ -498,6 +505,7 @@ int run(const Options& o) {
 
     cv::Mat background, image, foreground;
     int stepId = 0;  // id of our CONTROL step awaiting its REPLY (lockstep only)
+    long skipped = 0;  // images passed over because a newer one had already arrived
     char estimate[160] = "nothing seen yet";
     double startTime = -1;  // s, simulated time of the first image (-1: none yet)
     for (;;) {
@@ -520,6 +528,13 @@ int run(const Options& o) {
             continue;
         }
         if (type != kFrame) continue;  // STATE (not asked for), unknown types: skip
+        // In real time, act on the newest image: when more has already arrived
+        // behind this FRAME, this client is behind the camera and a newer image
+        // is on its way (lockstep: every step's FRAME counts).
+        if (!o.lockstep && payload.size() > 12 && payload[12] != kKindBackground && conn.moreWaiting()) {
+            ++skipped;
+            continue;
+        }
 
         const Frame frame = parseFrame(payload);
         if (frame.kind == kKindBackground) {
@@ -557,7 +572,8 @@ int run(const Options& o) {
                           ball->y);
             if (distance <= reachDistance) {
                 conn.sendVoltages(index, 0, 0);
-                std::printf("reached the ball at t=%.2f s (frame %u): %s\n", frame.time, frame.number, estimate);
+                std::printf("reached the ball at t=%.2f s (frame %u): %s (%ld older images skipped)\n", frame.time,
+                            frame.number, estimate, skipped);
                 return 0;
             }
             std::tie(right, left) = controller.command(*pose, *ball);

@@ -8,6 +8,8 @@ It shows the whole protocol of docs/protocol.md from a team's side:
   3. for every following FRAME: paste its patches onto a copy of the
      background, find our robot (team patch + identity patch) and the ball by
      colour, and answer with VOLTAGES from a simple go-to-point controller;
+     in real time, a FRAME with another message already waiting behind it is
+     skipped, so that a client slower than the camera acts on the newest image;
   4. in lockstep mode (`vssim serve --lockstep`) also advance simulated time
      ourselves with CONTROL {"command": "step"}.
 
@@ -23,6 +25,7 @@ Needs only Python 3, numpy and OpenCV (Debian: python3-numpy python3-opencv):
 import argparse
 import json
 import math
+import select
 import socket
 import struct
 import sys
@@ -130,6 +133,10 @@ class Connection:
             raise ProtocolError("malformed message from the server: length 0")
         body = self._receive_exactly(length)
         return body[0], body[1:]
+
+    def more_waiting(self):
+        """Whether another message has already arrived (a newer image, usually)."""
+        return bool(select.select([self.sock], [], [], 0)[0])
 
     def close(self):
         self.sock.close()
@@ -376,6 +383,7 @@ def run(args):
     step_id = None        # id of our CONTROL step awaiting its REPLY (lockstep only)
     last_estimate = "nothing seen yet"
     start_time = None  # s, simulated time of the first image
+    skipped = 0        # images passed over because a newer one had already arrived
 
     def stop():
         conn.send_voltages(index, 0.0, 0.0)
@@ -399,6 +407,14 @@ def run(args):
             continue              # a REPLY we did not ask for: nothing to do
         if msg_type != FRAME:
             continue              # STATE (we did not ask for it), WELCOME again, unknown types: skip
+
+        # In real time, act on the newest image: when more has already arrived
+        # behind this FRAME, this client is behind the camera, and a newer
+        # image is on its way (lockstep: every step's FRAME counts).
+        if (not args.lockstep and len(payload) > 12 and payload[12] != FRAME_KIND_BACKGROUND
+                and conn.more_waiting()):
+            skipped += 1
+            continue
 
         frame, time, kind, patches = parse_frame(payload)
         if kind == FRAME_KIND_BACKGROUND:
@@ -430,7 +446,8 @@ def run(args):
             last_estimate = (f"robot ({pose[0]:.3f}, {pose[1]:.3f}) ball ({ball[0]:.3f}, {ball[1]:.3f})")
             if distance <= reach_distance:
                 stop()
-                print(f"reached the ball at t={time:.2f} s (frame {frame}): {last_estimate}")
+                print(f"reached the ball at t={time:.2f} s (frame {frame}): {last_estimate}"
+                      + (f" ({skipped} older images skipped)" if skipped else ""))
                 return 0
             right, left = controller.command(pose, ball)
             if args.verbose:

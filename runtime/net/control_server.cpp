@@ -33,6 +33,7 @@ QJsonObject statsJson(const StatsReport& s) {
         {"frame_bytes", summariesJson(s.frameBytes)},
         {"clients", s.clients},
         {"frames_dropped_for_slow_clients", static_cast<double>(s.framesDroppedForSlowClients)},
+        {"image_age_ms", toJson(s.imageAgeMs)},
     };
 }
 
@@ -48,6 +49,7 @@ struct ControlServer::Client {
     Hello hello;
     QTimer* helloTimer = nullptr;
     QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
+    std::int64_t pendingInstantNs = 0;
     std::int64_t framesDropped = 0;
     int errorsLogged = 0;
     std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
@@ -72,6 +74,7 @@ std::vector<ClientInfo> ControlServer::clients() const {
         info.commands = c->commands;
         info.framesSent = c->framesSent;
         info.framesDropped = c->framesDropped;
+        info.unsentBytes = c->socket->bytesToWrite() + c->pendingFrame.size() + c->pendingState.size();
         info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
         out.push_back(info);
     }
@@ -289,6 +292,10 @@ void ControlServer::greet(Client& client, const QJsonObject& json) {
     client.hello = *hello;
     client.greeted = true;
     client.helloTimer->stop();
+    // In real time a short kernel queue keeps the frames a slow reader gets
+    // recent (it is behind by what the queue holds); lockstep keeps the default.
+    if ((hello->images || hello->state) && !lockstep())
+        client.socket->setSocketOption(QAbstractSocket::SendBufferSizeSocketOption, settings_.realtimeSendBufferBytes);
     log(client, QStringLiteral("HELLO: images %1, state %2")
                     .arg(hello->images ? subscriptionName(*hello->images) : QStringLiteral("none"))
                     .arg(hello->state ? "yes" : "no"));
@@ -376,28 +383,49 @@ void ControlServer::send(Client& client, const QByteArray& bytes) {
     client.socket->write(bytes);
 }
 
-void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray state) {
+bool ControlServer::lockstep() const {
+    const std::shared_ptr<const Snapshot> snapshot = engine_.snapshots().latest();
+    return snapshot && snapshot->mode == RunMode::Lockstep;
+}
+
+bool ControlServer::holdsFrames(Client& client) {
+    // Lockstep: the client sets the pace and should get every frame.
+    if (lockstep()) return client.socket->bytesToWrite() > settings_.lockstepBacklogBytes;
+    // Real time: the kernel takes what it can now; whatever it cannot take
+    // means the client is behind, and a newer frame would only wait behind it.
+    if (client.socket->bytesToWrite() > 0) client.socket->flush();
+    return client.socket->bytesToWrite() > 0;
+}
+
+void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray state, std::int64_t instantNs) {
     if (client.closing) return;
-    if (client.socket->bytesToWrite() > settings_.frameBacklogBytes) {
+    if (holdsFrames(client)) {
         if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) ++client.framesDropped;
         client.pendingFrame = std::move(frame);
         client.pendingState = std::move(state);
+        client.pendingInstantNs = instantNs;
         return;
     }
+    writeInstant(client, frame, state, instantNs);
+}
+
+void ControlServer::writeInstant(Client& client, const QByteArray& frame, const QByteArray& state,
+                                 std::int64_t instantNs) {
     if (!frame.isEmpty()) {
         send(client, frame);
         ++client.framesSent;
+        imageAgeMs_.add(1e-6 * static_cast<double>(monotonicNs() - instantNs));
     }
     if (!state.isEmpty()) send(client, state);
 }
 
 void ControlServer::flushPending(Client& client) {
-    if (client.closing || client.socket->bytesToWrite() > settings_.frameBacklogBytes) return;
-    if (client.pendingFrame.isEmpty() && client.pendingState.isEmpty()) return;
+    if (client.closing || (client.pendingFrame.isEmpty() && client.pendingState.isEmpty())) return;
+    if (holdsFrames(client)) return;
     QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
     client.pendingFrame.clear();
     client.pendingState.clear();
-    sendNewest(client, std::move(frame), std::move(state));
+    sendNewest(client, std::move(frame), std::move(state), client.pendingInstantNs);
 }
 
 void ControlServer::drainEngine() {
@@ -410,7 +438,7 @@ void ControlServer::drainEngine() {
                     for (const auto& [sub, bytes] : item.frame->images)
                         if (sub == *client->hello.images) frame = bytes;
                 if (client->hello.state) state = item.frame->state;
-                sendNewest(*client, frame, state);
+                sendNewest(*client, frame, state, item.frame->instantNs);
             }
         } else if (item.reply) {
             const EngineReply& r = *item.reply;
@@ -424,8 +452,7 @@ void ControlServer::drainEngine() {
                 QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
                 client.pendingFrame.clear();
                 client.pendingState.clear();
-                if (!frame.isEmpty()) send(client, frame);
-                if (!state.isEmpty()) send(client, state);
+                writeInstant(client, frame, state, client.pendingInstantNs);
             }
             if (!r.ok) {
                 sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
@@ -439,6 +466,7 @@ void ControlServer::drainEngine() {
             if (r.stats) {
                 StatsReport stats = *r.stats;
                 stats.clients = clientCount();
+                stats.imageAgeMs = imageAgeMs_.summary();
                 for (const auto& [id, c] : clients_) stats.framesDroppedForSlowClients += c->framesDropped;
                 json["stats"] = statsJson(stats);
             }

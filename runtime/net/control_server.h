@@ -1,8 +1,11 @@
 // The TCP side of docs/protocol.md: accepts clients, checks what they send,
 // posts requests to the engine thread stamped with their arrival time, and
 // writes the engine's frames, states and replies back. Lives in the thread
-// that owns it (the main thread); never blocks on a client: a client that
-// does not read loses old frames (the newest is kept), and one that lets more
+// that owns it (the main thread); never blocks on a client. A camera stream
+// is never late: in real time a client gets a new frame only once the socket
+// has taken the previous one (the newest waits, older ones are dropped), and
+// its socket's send buffer is kept small; in lockstep, where the client sets
+// the pace, frames queue up to lockstepBacklogBytes. A client that lets more
 // than maxUnsentBytes pile up is disconnected.
 #pragma once
 
@@ -16,6 +19,7 @@
 #include "camera/camera_renderer.h"
 #include "net/client_requests.h"
 #include "realtime/engine_thread.h"
+#include "realtime/sample_stats.h"
 #include "wire/protocol.h"
 
 class QTcpSocket;
@@ -27,7 +31,8 @@ struct ServerSettings {
     QHostAddress address = QHostAddress::LocalHost;
     quint16 port = protocol::kDefaultPort;  // 0: any free port
     int helloTimeoutMs = 5000;              // a client must say HELLO within this
-    qint64 frameBacklogBytes = 1 << 20;     // unsent bytes above which new frames wait (newest kept)
+    qint64 lockstepBacklogBytes = 1 << 20;  // lockstep: unsent bytes above which new frames wait (newest kept)
+    int realtimeSendBufferBytes = 16 << 10; // real time: the kernel's send buffer for subscribers (SO_SNDBUF)
     qint64 maxUnsentBytes = 64 << 20;       // unsent bytes above which a client is disconnected
     int maxClients = 64;
 };
@@ -42,6 +47,7 @@ struct ClientInfo {
     QString images;  // e.g. "patches/png", or "none"
     bool state = false;
     std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
+    qint64 unsentBytes = 0;  // written for it and not yet taken by the kernel, plus the frame waiting
     double connectedSeconds = 0.0;
 };
 
@@ -79,7 +85,10 @@ private:
     void greet(Client& client, const QJsonObject& json);
     void sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id = QJsonValue());
     void send(Client& client, const QByteArray& bytes);
-    void sendNewest(Client& client, QByteArray frame, QByteArray state);
+    void sendNewest(Client& client, QByteArray frame, QByteArray state, std::int64_t instantNs);
+    void writeInstant(Client& client, const QByteArray& frame, const QByteArray& state, std::int64_t instantNs);
+    bool holdsFrames(Client& client);  // whether a new frame must wait for this client's socket
+    bool lockstep() const;
     void flushPending(Client& client);
     void drop(Client& client, const QString& why);
     void forget(int id);
@@ -96,6 +105,7 @@ private:
     CameraRenderer background_;  // for the background images sent on HELLO
     QTcpServer server_;
     std::map<int, std::unique_ptr<Client>> clients_;
+    SampleStats imageAgeMs_;  // from the camera instant to its FRAME's hand-over to the socket, ms
     int nextId_ = 1;
 };
 

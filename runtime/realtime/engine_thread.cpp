@@ -172,6 +172,7 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
     framesPending_.fetch_add(1);
     job.frame = frame;
     job.time = sim.state().time;
+    job.instantNs = nowNs;
     if (!job.subscriptions.empty()) {
         const std::int64_t startNs = monotonicNs();
         renderer_.render(sim.state(), job.image, job.patches);  // a new image each time: the encoder owns it

@@ -60,6 +60,7 @@ std::shared_ptr<const FramePacket> FrameEncoder::encode(const EncodeJob& job) {
     auto packet = std::make_shared<FramePacket>();
     packet->frame = job.frame;
     packet->time = job.time;
+    packet->instantNs = job.instantNs;
     packet->state = job.state;
     for (const ImageSubscription& s : job.subscriptions) {
         const std::int64_t startNs = monotonicNs();

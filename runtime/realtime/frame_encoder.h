@@ -26,6 +26,7 @@ struct EncodeJob {
     std::optional<EngineReply> reply;  // a reply to pass on in order, or a camera instant:
     std::int64_t frame = 0;
     double time = 0.0;              // s
+    std::int64_t instantNs = 0;     // monotonicNs() when the engine reached the instant
     cv::Mat image;                  // the rendered frame (empty when only the state is wanted)
     std::vector<cv::Rect> patches;  // CameraRenderer::render's patches
     std::vector<ImageSubscription> subscriptions;

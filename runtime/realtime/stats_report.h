@@ -28,6 +28,7 @@ struct StatsReport {
     std::map<QString, SampleSummary> encodeMs;    // ms
     std::map<QString, SampleSummary> frameBytes;  // bytes
     // ControlServer.
+    SampleSummary imageAgeMs;  // camera instant to its FRAME's hand-over to a client's socket, wall clock, ms
     int clients = 0;
     std::int64_t framesDroppedForSlowClients = 0;
 };

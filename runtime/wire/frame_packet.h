@@ -29,6 +29,7 @@ QString subscriptionName(const ImageSubscription& s);
 struct FramePacket {
     std::int64_t frame = 0;
     double time = 0.0;                                             // s
+    std::int64_t instantNs = 0;  // monotonicNs() when the engine reached the instant (for the images' age)
     std::vector<std::pair<ImageSubscription, QByteArray>> images;  // complete FRAME messages
     QByteArray state;  // complete STATE message; empty when nobody subscribed
 };
