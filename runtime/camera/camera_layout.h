@@ -4,7 +4,10 @@
 
 namespace vssim {
 
-constexpr int kWallThicknessPx = 3;           // wall lines, centred on each Wall segment, px
+// The thickness OpenCV draws wall lines with, centred on each Wall segment;
+// anti-aliased, a wall shows as 4 to 5 px of kWallColour plus blended edges
+// (docs/protocol.md, Camera).
+constexpr int kWallThicknessPx = 3;  // px, cv::line thickness
 constexpr int kMarkingThicknessPx = 1;        // centre line and centre circle, px
 constexpr double kCentreCircleRadius = 0.20;  // m
 
