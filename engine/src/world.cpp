@@ -15,6 +15,11 @@ namespace {
 
 // Velocity passes per step: each detects all contacts, responds and separates.
 constexpr int kContactPasses = 8;
+// Position passes for jams (a robot pinned between others and a wall, an
+// inelastic pile) that the velocity passes leave overlapping: separation
+// only, until the deepest overlap is below kSeparationTolerance.
+constexpr int kSeparationPasses = 16;
+constexpr double kSeparationTolerance = 1e-4;  // m
 // Final passes against the walls only, which have infinite mass, so that no
 // body is left outside the field.
 constexpr int kContainmentPasses = 2;
@@ -106,7 +111,8 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
         flushToRest(state);
 
         bool touching = false;
-        for (int pass = 0; pass < kContactPasses; ++pass) {
+        int pass = 0;
+        for (; pass < kContactPasses; ++pass) {
             const std::vector<Contact> contacts = detectContacts(model.field, view);
             if (contacts.empty()) break;
             touching = true;
@@ -116,6 +122,13 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
                     ++report.responses;
                 separateBodies(c, bodies);
             }
+        }
+        for (int extra = 0; pass == kContactPasses && extra < kSeparationPasses; ++extra) {
+            const std::vector<Contact> contacts = detectContacts(model.field, view);
+            double deepest = 0.0;
+            for (const Contact& c : contacts) deepest = std::max(deepest, c.depth);
+            if (!(deepest > kSeparationTolerance)) break;
+            for (const Contact& c : contacts) separateBodies(c, bodies);
         }
         for (int pass = 0; touching && pass < kContainmentPasses; ++pass) {
             std::vector<Contact> walls;
