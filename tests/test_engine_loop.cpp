@@ -351,6 +351,14 @@ private slots:
         QCOMPARE(loop.control()[0].controller, RobotController::Tcp);
         QCOMPARE(loop.simulation().state().voltages[0].right, 1.0);
         QCOMPARE(loop.simulation().state().voltages[0].left, 2.0);
+        // The client leaves: the server stops its robots (client -1). They
+        // are nobody's now, not "TCP client -1"'s.
+        auto stop = voltages(0, 0, 0.0, 0.0);
+        stop.voltages.push_back({1, Voltages{}});
+        loop.handle(stop, 0);
+        QCOMPARE(loop.control()[0].controller, RobotController::None);
+        QCOMPARE(loop.control()[1].controller, RobotController::None);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 0.0);
     }
 
     void loadSceneReplacesTheWorld() {
@@ -371,6 +379,14 @@ private slots:
         loop.runUntil(160 * kMs);
         QCOMPARE(loop.simulation().state().step, 30);
         QCOMPARE(hashState(loop.simulation().state()), offlineHash(three, {}, 30));
+        // Loaded to start paused (the app's File > Open): not one step runs.
+        EngineRequest paused = control(EngineRequest::Kind::LoadScene, 170 * kMs);
+        paused.scene = std::make_shared<const Scene>(three);
+        paused.startPaused = true;
+        loop.handle(paused, 170 * kMs);
+        loop.runUntil(400 * kMs);
+        QVERIFY(loop.paused());
+        QCOMPARE(loop.simulation().state().step, 0);
     }
 
     void setSettingsKeepsTheBodies() {

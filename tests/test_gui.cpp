@@ -9,6 +9,8 @@
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QLabel>
+#include <QPointer>
+#include <QFileInfo>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -216,6 +218,12 @@ private slots:
         QCOMPARE(sceneToJson(other.session().scene()), sceneToJson(*saved));
         QCOMPARE(other.session().latest()->scene->robots.size(), std::size_t(6));
         QVERIFY(!other.openScene(dir.filePath("missing.json"), false));
+        // A scene opened from a file starts paused at t = 0.
+        QTRY_VERIFY(other.session().latest()->paused && other.session().latest()->time == 0.0);
+        // A name without a suffix is saved as .json (the Open dialog lists only those).
+        QVERIFY2(w.saveScene(dir.filePath("nosuffix"), &error), qPrintable(error));
+        QVERIFY(QFileInfo(dir.filePath("nosuffix.json")).isFile());
+        QVERIFY(!QFileInfo::exists(dir.filePath("nosuffix")));
     }
 
     void anOpenedSceneSetsUpTheWindowFromTheSnapshots() {
@@ -298,6 +306,60 @@ private slots:
         }
     }
 
+    void menusShortcutsAndUndoNames() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        // View > Refresh rate marks the rate in force.
+        QVERIFY(w.findChild<QAction*>("action.rate30")->isChecked());
+        w.findChild<QAction*>("action.rate10")->trigger();
+        QVERIFY(w.findChild<QAction*>("action.rate10")->isChecked());
+        QVERIFY(!w.findChild<QAction*>("action.rate30")->isChecked());
+        // Shortcuts: Space pauses, Ctrl+Right steps 30 ms, Ctrl+R resets, Ctrl+Up speeds up
+        // (window shortcuts: the window must be the active one).
+        w.activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(&w));
+        QTest::keyClick(&w.fieldView(), Qt::Key_Space);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        const double t0 = w.session().latest()->time;
+        QTRY_VERIFY(action(w, "action.step")->isEnabled());  // at the window's next refresh
+        QTest::keyClick(&w, Qt::Key_Right, Qt::ControlModifier);
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return std::abs(s.time - (t0 + 0.03)) < 1e-9; }));
+        QTest::keyClick(&w, Qt::Key_R, Qt::ControlModifier);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.time == 0.0; }));
+        QTest::keyClick(&w, Qt::Key_Up, Qt::ControlModifier);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.speed == 2.0; }));
+        // Undo names what the drag changed: a Shift-drag sets the ball's velocity.
+        FieldView& view = w.fieldView();
+        QTRY_VERIFY(view.snapshot() && view.snapshot()->paused);
+        const BallState ball = w.session().latest()->ball;
+        QTest::mousePress(&view, Qt::LeftButton, Qt::ShiftModifier, at(view, ball.x, ball.y));
+        moveMouse(view, at(view, ball.x + 0.05, ball.y));
+        QTest::mouseRelease(&view, Qt::LeftButton, Qt::ShiftModifier, at(view, ball.x + 0.1, ball.y));
+        QCOMPARE(action(w, "action.undo")->text(), QString("&Undo Set the ball's velocity"));
+    }
+
+    void quitClosesEveryWindow() {
+        // File > Quit ends everything, watch windows included (it used to close
+        // the main window only, leaving the process and its server running).
+        auto* w = new MainWindow(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w->setAttribute(Qt::WA_DeleteOnClose);
+        w->show();
+        QVERIFY(QTest::qWaitForWindowExposed(w));
+        auto* watcher = new RemoteWatcher;
+        QString error;
+        QVERIFY2(watcher->connectTo("127.0.0.1", w->session().port(), &error), qPrintable(error));
+        auto* remote = new RemoteWindow(watcher);
+        remote->show();
+        QVERIFY(QTest::qWaitForWindowExposed(remote));
+        QPointer<MainWindow> main(w);
+        QPointer<RemoteWindow> watch(remote);
+        action(*w, "action.quit")->trigger();
+        QTRY_VERIFY(!main);  // closed and deleted
+        QVERIFY(!watch || !watch->isVisible());
+        delete watch.data();
+    }
+
     void watchingARemoteServer() {
         // A server in this process (as `vssim serve` would run it), watched
         // through the protocol: the view shows what the engine has.
@@ -330,8 +392,52 @@ private slots:
         QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, r0.x + 0.2, r0.y - 0.1));
         QTRY_VERIFY(std::abs(engine.snapshots().latest()->robots[0].x - (r0.x + 0.2)) < 0.01);
         QCOMPARE(engine.snapshots().latest()->time, t);
+        // Step works on a paused server; not while it runs.
+        QAction* step = window.findChild<QAction*>("remote.step");
+        QTRY_VERIFY(step->isEnabled());
+        window.findChild<QAction*>("remote.resume")->trigger();
+        QTRY_VERIFY(!step->isEnabled());
         engine.requestStop();
         engine.wait();
+    }
+
+    void aWatchWindowReconnectsWhenTheServerComesBack() {
+        Scene scene = kickoff();
+        quint16 port = 0;
+        auto serve = [&](std::unique_ptr<EngineThread>& engine, std::unique_ptr<ControlServer>& server) {
+            engine = std::make_unique<EngineThread>(scene, EngineLoopSettings{});
+            ServerSettings settings = anyPort();
+            settings.port = port;
+            server = std::make_unique<ControlServer>(scene, *engine, settings);
+            QString error;
+            if (!server->listen(&error)) return false;
+            port = server->port();
+            engine->start();
+            return true;
+        };
+        std::unique_ptr<EngineThread> engine;
+        std::unique_ptr<ControlServer> server;
+        QVERIFY(serve(engine, server));
+        auto* watcher = new RemoteWatcher;
+        QString error;
+        QVERIFY2(watcher->connectTo("127.0.0.1", port, &error), qPrintable(error));
+        RemoteWindow window(watcher);
+        window.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&window));
+        QTRY_VERIFY(watcher->connected() && window.fieldView().snapshot());
+        // The server stops...
+        server.reset();
+        engine->requestStop();
+        engine->wait();
+        QTRY_VERIFY(!watcher->connected());
+        // ...and starts again on the same port: the window is watching it within a few seconds.
+        QVERIFY(serve(engine, server));
+        QTRY_VERIFY_WITH_TIMEOUT(watcher->connected(), 8000);
+        const double before = watcher->latest()->time;
+        QTRY_VERIFY(watcher->latest()->time != before);
+        server.reset();
+        engine->requestStop();
+        engine->wait();
     }
 };
 

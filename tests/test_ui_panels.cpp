@@ -138,6 +138,18 @@ void TestUiPanels::inspectorShowsValuesWithUnits() {
     expectValue(inspector, "omega", s.robots[1].omega, "rad/s");
     expectValue(inspector, "voltageLeft", s.voltages[1].left, "V");
 
+    // The heading is shown wrapped (the engine counts turns), and a value that
+    // rounds to zero without a minus sign.
+    Snapshot turned = s;
+    turned.robots[0].theta = 20 * M_PI + 0.5;
+    turned.robots[0].v = -1e-9;
+    inspector.showRobot(turned, 0);
+    expectValue(inspector, "theta", 0.5 * 180.0 / M_PI, "deg");
+    QCOMPARE(labelText(inspector, "v"), QStringLiteral("0.000 m/s"));
+    turned.robots[0].theta = -3 * M_PI / 2;  // = +90 degrees
+    inspector.showRobot(turned, 0);
+    QCOMPARE(labelText(inspector, "theta"), QStringLiteral("90.0 deg"));
+
     inspector.showRobot(s, -1);
     QCOMPARE(labelText(inspector, "name"), QStringLiteral("no robot selected"));
     QVERIFY(!labelText(inspector, "v").contains("m/s"));
@@ -329,6 +341,11 @@ void TestUiPanels::statusLine() {
     QVERIFY2(paused.contains("max"), qPrintable(paused));
     QVERIFY(!paused.contains("realtime"));
     QVERIFY(paused.endsWith("paused"));
+    // Paused, nothing runs: no real-time factor, no engine cost.
+    s.mode = RunMode::Realtime;
+    const QString pausedRealtime = statusText(s, 0.06);
+    QVERIFY2(!pausedRealtime.contains("real time") && !pausedRealtime.contains("engine"), qPrintable(pausedRealtime));
+    s.mode = RunMode::Max;
     s.mode = RunMode::Lockstep;
     QVERIFY(statusText(s, std::nan("")).contains("lockstep"));
     QVERIFY(!statusText(s, std::nan("")).contains("real time"));

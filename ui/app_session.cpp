@@ -75,12 +75,13 @@ void AppSession::applySettings(const SimulationSettings& settings) {
     post(std::move(r));
 }
 
-void AppSession::loadScene(const Scene& scene) {
+void AppSession::loadScene(const Scene& scene, bool paused) {
     scene_ = scene;
     server_->setScene(scene_);
     EngineRequest r;
     r.kind = EngineRequest::Kind::LoadScene;
     r.scene = std::make_shared<const Scene>(scene_);
+    r.startPaused = paused;
     post(std::move(r));
 }
 

@@ -35,8 +35,9 @@ public:
     // New integrator, step, collision model or restitution: the bodies stay
     // where they are, the clock restarts at 0 (EngineRequest::SetSettings).
     void applySettings(const SimulationSettings& settings);
-    // Replaces the scene (engine and server; TCP clients must reconnect).
-    void loadScene(const Scene& scene);
+    // Replaces the scene (engine and server; TCP clients must reconnect);
+    // `paused`: it waits at t = 0 (otherwise it runs if the engine was running).
+    void loadScene(const Scene& scene, bool paused = false);
 
     bool listening() const { return listening_; }
     QString listenError() const { return listenError_; }

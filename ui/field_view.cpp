@@ -20,6 +20,25 @@ namespace {
 
 constexpr double kMargin = 0.08;  // m of view around the field
 constexpr std::size_t kTrailPoints = 240;
+// Simulated time between two snapshots above which their positions are not
+// joined by a trail segment, s (at x1 and 30 Hz they are 33 ms apart).
+constexpr double kMaxTrailGap = 0.1;
+
+// A robot moves along its heading only: an arrow from its centre to `tip`
+// (field m) sets the speed of its projection on the heading, m/s.
+double arrowRobotSpeed(const RobotState& r, const QPointF& tip) {
+    const QPointF d = tip - QPointF(r.x, r.y);
+    return std::clamp(FieldView::kSpeedPerArrowMetre * (d.x() * std::cos(r.theta) + d.y() * std::sin(r.theta)),
+                      -kMaxPlacedRobotSpeed, kMaxPlacedRobotSpeed);
+}
+
+// The ball's velocity set by an arrow from its centre to `tip`, m/s.
+QPointF arrowBallVelocity(const BallState& b, const QPointF& tip) {
+    QPointF v = FieldView::kSpeedPerArrowMetre * (tip - QPointF(b.x, b.y));
+    const double speed = std::hypot(v.x(), v.y());
+    if (speed > kMaxPlacedBallSpeed) v *= kMaxPlacedBallSpeed / speed;
+    return v;
+}
 
 QColor qcolor(Bgr c) { return QColor(c.r, c.g, c.b); }
 
@@ -46,7 +65,9 @@ FieldView::FieldView(QWidget* parent) : QOpenGLWidget(parent) {
         tr("Drag a robot or the ball to move it; mouse wheel over a robot turns it;\n"
            "Shift+drag from a body sets its velocity (0.1 m of arrow = 1 m/s);\n"
            "wheel elsewhere zooms, right or middle drag pans, double-click resets the view;\n"
-           "W A S D or the arrow keys drive the selected robot, Esc lets it go."));
+           "W A S D or the arrow keys drive the selected robot, Esc lets it go;\n"
+           "Space plays or pauses, Ctrl+Z / Ctrl+Shift+Z undo and redo a move,\n"
+           "Ctrl+Right steps 30 ms (paused), Ctrl+R resets, Ctrl+Up / Ctrl+Down change the speed."));
 }
 
 void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
@@ -63,8 +84,14 @@ void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
         const double speed =
             i + 1 < bodies ? std::abs(snapshot->robots[i].v) : std::hypot(snapshot->ball.vx, snapshot->ball.vy);
         if (!trail.empty() && QLineF(trail.back(), p).length() > 0.02 + 2.0 * speed * elapsed) trail.clear();
-        if (trail.empty() || QLineF(trail.back(), p).length() > 0.002) trail.push_back(p);
-        if (trail.size() > kTrailPoints) trail.pop_front();
+        // Snapshots far apart in simulated time (a fast speed factor, max
+        // mode): a chord between them would cut across the path actually
+        // taken, so the trail breaks instead (a NaN point).
+        if (!trail.empty() && elapsed > kMaxTrailGap && !std::isnan(trail.back().x()))
+            trail.push_back(QPointF(std::nan(""), std::nan("")));
+        const bool afterGap = trail.empty() || std::isnan(trail.back().x());
+        if (afterGap || QLineF(trail.back(), p).length() > 0.002) trail.push_back(p);
+        while (trail.size() > kTrailPoints) trail.pop_front();
     }
     snapshot_ = std::move(snapshot);
     if (selected_ >= static_cast<int>(snapshot_->robots.size())) setSelectedRobot(-1);
@@ -139,12 +166,20 @@ void FieldView::paintBodies(QPainter& p) const {
     if (showTrails_) {
         for (std::size_t i = 0; i < trails_.size(); ++i) {
             const bool ball = i + 1 == trails_.size();
-            QColor c = ball ? qcolor(kBallColour) : qcolor(teamColour(scene.robots[i].team));
-            c.setAlpha(110);
+            // Half-way to white, so that blue shows on the dark floor.
+            const QColor team = ball ? qcolor(kBallColour) : qcolor(teamColour(scene.robots[i].team));
+            QColor c((team.red() + 255) / 2, (team.green() + 255) / 2, (team.blue() + 255) / 2, 150);
             p.setPen(QPen(c, 0.003));
             QPainterPath path;
-            for (std::size_t k = 0; k < trails_[i].size(); ++k)
-                k == 0 ? path.moveTo(trails_[i][k]) : path.lineTo(trails_[i][k]);
+            bool gap = true;
+            for (const QPointF& point : trails_[i]) {
+                if (std::isnan(point.x())) {
+                    gap = true;
+                    continue;
+                }
+                gap ? path.moveTo(point) : path.lineTo(point);
+                gap = false;
+            }
             p.drawPath(path);
         }
     }
@@ -193,6 +228,22 @@ void FieldView::paintBodies(QPainter& p) const {
                                                       : QPointF(s.robots[dragRobot_].x, s.robots[dragRobot_].y);
         p.setPen(QPen(QColor(255, 255, 0), 0.006));
         p.drawLine(from, dragLast_);
+        const QLineF line(from, dragLast_);
+        if (line.length() > 1e-6) {  // an arrowhead, 2 cm long, at the tip
+            const QPointF back = (from - dragLast_) / line.length() * 0.02;
+            const QPointF side(-back.y() * 0.5, back.x() * 0.5);
+            p.drawLine(dragLast_, dragLast_ + back + side);
+            p.drawLine(dragLast_, dragLast_ + back - side);
+        }
+        // What the release will set, next to the tip, in pixels.
+        const QPointF tip = worldToWidget().map(dragLast_);
+        p.save();
+        p.resetTransform();
+        p.setPen(QColor(255, 255, 0));
+        const double speed = drag_ == Drag::BallArrow ? QLineF(QPointF(), arrowBallVelocity(s.ball, dragLast_)).length()
+                                                      : arrowRobotSpeed(s.robots[dragRobot_], dragLast_);
+        p.drawText(tip + QPointF(8, -8), QString::asprintf("%.2f m/s", speed));
+        p.restore();
     }
 }
 
@@ -329,18 +380,14 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
         case Drag::RobotArrow: {
             // A robot moves along its heading only: the arrow's projection on it.
             RobotState pose = snapshot_->robots[dragRobot_];
-            const QPointF d = f - QPointF(pose.x, pose.y);
-            pose.v = std::clamp(kSpeedPerArrowMetre * (d.x() * std::cos(pose.theta) + d.y() * std::sin(pose.theta)),
-                                -kMaxPlacedRobotSpeed, kMaxPlacedRobotSpeed);
+            pose.v = arrowRobotSpeed(pose, f);
             pose.omega = 0;
             emit robotPlaced(dragRobot_, pose, true);
             break;
         }
         case Drag::BallArrow: {
             BallState ball = snapshot_->ball;
-            QPointF v = kSpeedPerArrowMetre * (f - QPointF(ball.x, ball.y));
-            const double speed = std::hypot(v.x(), v.y());
-            if (speed > kMaxPlacedBallSpeed) v *= kMaxPlacedBallSpeed / speed;
+            const QPointF v = arrowBallVelocity(ball, f);
             ball.vx = v.x();
             ball.vy = v.y();
             emit ballPlaced(ball, true);

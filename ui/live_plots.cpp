@@ -14,6 +14,7 @@ struct Series {
     QString name;
     QString unit;
     QColor colour;
+    double minSpan;  // the smallest height of the chart's scale, in `unit`: noise stays flat
 };
 
 constexpr int kMarginLeft = 72;      // px, room for the min/max labels
@@ -21,12 +22,27 @@ constexpr int kMarginRight = 84;     // px, room for a second unit's labels
 constexpr int kTitleHeight = 16;     // px
 constexpr int kTimeAxisHeight = 16;  // px
 
-// [lo, hi] of some values, widened so that a flat curve still has a height.
-std::pair<double, double> rangeOf(const std::vector<double>& values) {
+// [lo, hi] of some values with 5 % to spare, at least minSpan high (about
+// the values' middle), so that numerical noise around a constant is drawn
+// flat rather than stretched to the full height.
+std::pair<double, double> rangeOf(const std::vector<double>& values, double minSpan) {
     double lo = *std::min_element(values.begin(), values.end());
     double hi = *std::max_element(values.begin(), values.end());
-    const double pad = hi > lo ? 0.05 * (hi - lo) : std::max(0.5, 0.1 * std::abs(hi));
-    return {lo - pad, hi + pad};
+    const double pad = 0.05 * (hi - lo);
+    lo -= pad;
+    hi += pad;
+    if (hi - lo < minSpan) {
+        const double middle = 0.5 * (lo + hi);
+        lo = middle - 0.5 * minSpan;
+        hi = middle + 0.5 * minSpan;
+    }
+    return {lo, hi};
+}
+
+// "%.2f unit", with a value that rounds to zero shown as 0.00 (not -0.00).
+QString axisLabel(double value, const QString& unit) {
+    if (std::abs(value) < 0.005) value = 0.0;
+    return QString::asprintf("%.2f %s", value, qPrintable(unit));
 }
 
 }  // namespace
@@ -89,9 +105,9 @@ void LivePlots::paintEvent(QPaintEvent*) {
     p.setRenderHint(QPainter::Antialiasing, false);
     const QString titles[kCharts] = {tr("Velocities"), tr("Voltages"), tr("Currents")};
     const std::vector<Series> series[kCharts] = {
-        {{"v", "m/s", firstColour()}, {"ω", "rad/s", secondColour()}},
-        {{"right", "V", firstColour()}, {"left", "V", secondColour()}},
-        {{"right", "A", firstColour()}, {"left", "A", secondColour()}},
+        {{"v", "m/s", firstColour(), 0.1}, {"ω", "rad/s", secondColour(), 1.0}},
+        {{"right", "V", firstColour(), 1.0}, {"left", "V", secondColour(), 1.0}},
+        {{"right", "A", firstColour(), 0.1}, {"left", "A", secondColour(), 0.1}},
     };
     const double tEnd = samples_.empty() ? window_ : std::max(window_, samples_.back().t);
     const double tStart = tEnd - window_;
@@ -134,13 +150,13 @@ void LivePlots::paintEvent(QPaintEvent*) {
             std::vector<double> all;
             for (std::size_t j = 0; j < values.size(); ++j)
                 if (series[c][j].unit == series[c][k].unit) all.insert(all.end(), values[j].begin(), values[j].end());
-            ranges[k] = rangeOf(all);
+            ranges[k] = rangeOf(all, series[c][k].minSpan);
         }
         const bool twoUnits = series[c][1].unit != series[c][0].unit;
         for (std::size_t k = 0; k < values.size(); ++k) {
             if (k == 1 && !twoUnits) break;
-            const QString maxLabel = QString::asprintf("%.2f %s", ranges[k].second, qPrintable(series[c][k].unit));
-            const QString minLabel = QString::asprintf("%.2f %s", ranges[k].first, qPrintable(series[c][k].unit));
+            const QString maxLabel = axisLabel(ranges[k].second, series[c][k].unit);
+            const QString minLabel = axisLabel(ranges[k].first, series[c][k].unit);
             const int labelX = k == 0 ? 2 : area.right() + 4;
             p.setPen(twoUnits ? series[c][k].colour : palette().color(QPalette::WindowText));
             p.drawText(QPoint(labelX, area.top() + p.fontMetrics().ascent()), maxLabel);

@@ -1,5 +1,6 @@
 #include "main_window.h"
 
+#include <QActionGroup>
 #include <QApplication>
 #include <QCheckBox>
 #include <QCloseEvent>
@@ -48,17 +49,24 @@ namespace {
 class PlaceBodyCommand : public QUndoCommand {
 public:
     PlaceBodyCommand(AppSession& session, int robot, RobotState before, RobotState after, const QString& name)
-        : QUndoCommand(QObject::tr("Move %1").arg(name)),
+        : QUndoCommand(describe(before, after).arg(name)),
           session_(session),
           robot_(robot),
           robotBefore_(before),
           robotAfter_(after) {}
     PlaceBodyCommand(AppSession& session, BallState before, BallState after)
-        : QUndoCommand(QObject::tr("Move the ball")),
+        : QUndoCommand(before.x == after.x && before.y == after.y ? QObject::tr("Set the ball's velocity")
+                                                                  : QObject::tr("Move the ball")),
           session_(session),
           robot_(-1),
           ballBefore_(before),
           ballAfter_(after) {}
+    // "Move %1", "Turn %1" or "Set %1's velocity": what the Edit menu's Undo names.
+    static QString describe(const RobotState& before, const RobotState& after) {
+        if (before.x != after.x || before.y != after.y) return QObject::tr("Move %1");
+        if (before.theta != after.theta) return QObject::tr("Turn %1");
+        return QObject::tr("Set %1's velocity");
+    }
     void undo() override { place(true); }
     void redo() override {
         if (first_) {
@@ -209,8 +217,13 @@ void MainWindow::buildDocks() {
     auto* release = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
     layout->addWidget(release);
     QDockWidget* driveDock = dock(tr("Drive by hand"), drive, Qt::RightDockWidgetArea, "dock.drive");
-    tabifyDockWidget(cameraDock, driveDock);
+    // Below the robot and camera tabs, not among them: the joystick and the
+    // plots are seen together.
+    splitDockWidget(robotDock, driveDock, Qt::Vertical);
     robotDock->raise();
+    // The right-hand docks keep a readable width on a small screen (1024 x 768).
+    for (QWidget* w : {static_cast<QWidget*>(robotPanel), static_cast<QWidget*>(camera_), drive}) w->setMinimumWidth(300);
+    resizeDocks({robotDock}, {380}, Qt::Horizontal);
     connect(release, &QPushButton::clicked, this, &MainWindow::releaseManual);
     connect(joystick_, &JoystickWidget::moved, this, [this](double x, double y) { onStick(x, y, false); });
 
@@ -243,7 +256,8 @@ void MainWindow::buildActions() {
     for (const QString& name : builtinSceneNames()) examples->addAction(name, this, [this, name] { openScene(name); });
     recentMenu_ = file->addMenu(tr("&Recent scenes"));
     updateRecentMenu();
-    file->addAction(tr("&Save scene as..."), QKeySequence::SaveAs, this, [this] {
+    // (QKeySequence::SaveAs has no key on X11: the shortcut is spelled out.)
+    file->addAction(tr("&Save scene as..."), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S), this, [this] {
         const QString path = QFileDialog::getSaveFileName(this, tr("Save scene (bodies where they are now)"), QString(),
                                                           tr("Scenes (*.json)"));
         if (path.isEmpty()) return;
@@ -252,9 +266,12 @@ void MainWindow::buildActions() {
     });
     file->addAction(tr("&Watch a server..."), this, [this] {
         bool ok = false;
-        const QString target =
-            QInputDialog::getText(this, tr("Watch a server"), tr("vssim serve at HOST:PORT"), QLineEdit::Normal,
-                                  QStringLiteral("127.0.0.1:%1").arg(protocol::kDefaultPort), &ok);
+        // No default address: this window's own server (port %1) is not worth watching.
+        const QString target = QInputDialog::getText(
+            this, tr("Watch a server"),
+            tr("A running vssim serve, as HOST:PORT or PORT (this window itself serves on port %1):")
+                .arg(session_->port()),
+            QLineEdit::Normal, lastWatched_, &ok);
         if (!ok) return;
         const std::optional<HostPort> address = parseHostPort(target);
         auto* watcher = new RemoteWatcher;
@@ -265,12 +282,18 @@ void MainWindow::buildActions() {
                                  error.isEmpty() ? tr("expected HOST:PORT, got \"%1\"").arg(target) : error);
             return;
         }
+        lastWatched_ = target;
         auto* window = new RemoteWindow(watcher);
         window->setAttribute(Qt::WA_DeleteOnClose);
         window->show();
     });
     file->addSeparator();
-    file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+    // Quit ends everything: this window, any watch windows, the engine and the server.
+    QAction* quit = file->addAction(tr("&Quit"), QKeySequence(Qt::CTRL | Qt::Key_Q), this, [] {
+        QApplication::closeAllWindows();
+        QApplication::quit();
+    });
+    quit->setObjectName("action.quit");
 
     QMenu* edit = menuBar()->addMenu(tr("&Edit"));
     QAction* undo = undo_.createUndoAction(this, tr("&Undo"));
@@ -300,8 +323,14 @@ void MainWindow::buildActions() {
     connect(arrows, &QAction::toggled, field_, &FieldView::setShowVelocities);
     view->addAction(tr("&Reset zoom and pan"), field_, &FieldView::resetView);
     QMenu* rate = view->addMenu(tr("Refresh &rate"));
-    for (double hz : {2.0, 10.0, 30.0, 60.0})
-        rate->addAction(tr("%1 Hz").arg(hz), this, [this, hz] { setRefreshRate(hz); });
+    auto* rates = new QActionGroup(rate);
+    for (double hz : {2.0, 10.0, 30.0, 60.0}) {
+        QAction* a = rate->addAction(tr("%1 Hz").arg(hz), this, [this, hz] { setRefreshRate(hz); });
+        a->setCheckable(true);
+        a->setChecked(hz == 30.0);  // the default (setRefreshRate in the constructor)
+        a->setObjectName(QStringLiteral("action.rate%1").arg(hz));
+        rates->addAction(a);
+    }
 
     QMenu* help = menuBar()->addMenu(tr("&Help"));
     help->addAction(tr("&Controls"), this,
@@ -330,11 +359,13 @@ void MainWindow::buildToolBar() {
         session_->post(std::move(r));
     });
     step_->setObjectName("action.step");
+    step_->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_Right));
     QAction* reset = bar->addAction(tr("Reset"), this, [this] {
         session_->post(EngineRequest::Kind::Reset);
         plots_->clear();
     });
     reset->setObjectName("action.reset");
+    reset->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_R));
     bar->addSeparator();
     bar->addWidget(new QLabel(tr(" Speed ")));
     speed_ = new QComboBox(bar);
@@ -342,6 +373,15 @@ void MainWindow::buildToolBar() {
     speed_->setCurrentIndex(3);
     bar->addWidget(speed_);
     connect(speed_, &QComboBox::currentIndexChanged, this, [this](int i) { session_->setSpeed(kSpeeds[i].speed); });
+    for (auto [key, step] : {std::pair{Qt::Key_Up, 1}, std::pair{Qt::Key_Down, -1}}) {
+        auto* change = new QAction(this);
+        change->setShortcut(QKeySequence(Qt::CTRL | key));
+        change->setObjectName(step > 0 ? "action.faster" : "action.slower");
+        connect(change, &QAction::triggered, this, [this, step] {
+            speed_->setCurrentIndex(std::clamp(speed_->currentIndex() + step, 0, speed_->count() - 1));
+        });
+        addAction(change);
+    }
     bar->addSeparator();
     integrator_ = new QComboBox(bar);
     integrator_->addItems({"euler", "rk4", "exact"});
@@ -412,14 +452,20 @@ bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
         return false;
     }
     releaseManual();
-    session_->loadScene(*scene);  // the rest follows in refresh(), from the snapshots
+    // Paused at t = 0, so the person sees the scene begin (Space plays it);
+    // the rest follows in refresh(), from the snapshots.
+    session_->loadScene(*scene, true);
+    statusBar()->showMessage(tr("Opened %1, paused at t = 0: Space or Play runs it").arg(QFileInfo(path).baseName()),
+                             8000);
     scenePath_ = path;
     if (!path.startsWith(":/")) addRecent(QFileInfo(path).absoluteFilePath());
     updateTitle();
     return true;
 }
 
-bool MainWindow::saveScene(const QString& path, QString* error) {
+bool MainWindow::saveScene(const QString& chosenPath, QString* error) {
+    // Scene files end in .json: the Open dialog shows only those.
+    const QString path = QFileInfo(chosenPath).suffix().isEmpty() ? chosenPath + QStringLiteral(".json") : chosenPath;
     const auto snapshot = session_->latest();
     Scene scene = session_->scene();
     if (snapshot && snapshot->robots.size() == scene.robots.size()) {

@@ -45,6 +45,8 @@ public:
     FieldView& fieldView() { return *field_; }
     // Loads a scene file (a path or a built-in name); false and a message box on error.
     bool openScene(const QString& pathOrName, bool interactive = true);
+    // Writes the scene with the bodies where they are now; a path without a
+    // suffix gets ".json".
     bool saveScene(const QString& path, QString* error);
     // The manual-driving state, for tests and the UI.
     int manualRobot() const { return manualRobot_; }
@@ -110,6 +112,7 @@ private:
     double factor_ = 0.0;
     double shownDt_ = 0.0, shownRestitution_ = 0.0;  // what showSettings() put in the boxes
     qint64 lastConnectionsMs_ = 0;
+    QString lastWatched_;  // the last server address watched (File > Watch a server)
 };
 
 }  // namespace vssim

@@ -71,6 +71,8 @@ std::optional<Snapshot> snapshotFromState(const QJsonObject& state, std::shared_
 
 bool RemoteWatcher::connectTo(const QString& host, quint16 port, QString* error, int timeoutMs) {
     address_ = QStringLiteral("%1:%2").arg(host).arg(port);
+    host_ = host;
+    port_ = port;
     if (!client_.connectTo(port, host, timeoutMs)) {
         *error = QStringLiteral("cannot connect to %1: %2").arg(address_, client_.socket().errorString());
         return false;
@@ -93,7 +95,7 @@ bool RemoteWatcher::connectTo(const QString& host, quint16 port, QString* error,
     paused_ = (*welcome)["paused"].toBool();
     speed_ = (*welcome)["speed"].toDouble(1.0);
     // From now on (not during the handshake, whose WELCOME hello() reads).
-    connect(&client_, &ProtocolClient::messageReceived, this, &RemoteWatcher::drain);
+    connect(&client_, &ProtocolClient::messageReceived, this, &RemoteWatcher::drain, Qt::UniqueConnection);
     drain();
     return true;
 }
@@ -112,8 +114,15 @@ void RemoteWatcher::drain() {
             emit snapshotReceived();
         } else if (type == protocol::MessageType::Reply) {
             const QString command = json["command"].toString();
-            if (command == "pause") paused_ = true;
-            if (command == "resume") paused_ = false;
+            if (command == "pause" || command == "resume") {
+                paused_ = command == "pause";
+                // A paused server sends no STATE: the snapshot shown says so now.
+                if (latest_) {
+                    auto s = std::make_shared<Snapshot>(*latest_);
+                    s->paused = paused_;
+                    latest_ = std::move(s);
+                }
+            }
             emit message(QStringLiteral("%1: done (t = %2 s)").arg(command).arg(json["time"].toDouble()));
         } else if (type == protocol::MessageType::Error) {
             emit message(QStringLiteral("server: %1").arg(json["message"].toString()));

@@ -21,6 +21,8 @@ public:
     // Connects and says HELLO as an observer of the ground truth; false and
     // *error (what and where) when that fails.
     bool connectTo(const QString& host, quint16 port, QString* error, int timeoutMs = 5000);
+    // The same server again (it restarted); false while it is not back.
+    bool reconnect(QString* error, int timeoutMs = 1000) { return connectTo(host_, port_, error, timeoutMs); }
     std::shared_ptr<const Snapshot> latest() const { return latest_; }
     bool connected() const;
     QString address() const { return address_; }
@@ -40,6 +42,8 @@ private:
     std::shared_ptr<const Scene> scene_;
     std::shared_ptr<const Snapshot> latest_;
     QString address_;
+    QString host_;
+    quint16 port_ = 0;
     RunMode mode_ = RunMode::Realtime;
     bool paused_ = false;
     double speed_ = 1.0;

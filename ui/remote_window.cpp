@@ -30,11 +30,8 @@ RemoteWindow::RemoteWindow(RemoteWatcher* watcher, QWidget* parent) : QMainWindo
     QToolBar* bar = addToolBar(tr("Server"));
     bar->addAction(tr("Pause"), this, [this] { watcher_->control("pause"); })->setObjectName("remote.pause");
     bar->addAction(tr("Resume"), this, [this] { watcher_->control("resume"); })->setObjectName("remote.resume");
-    bar->addAction(tr("Step 30 ms"), this,
-                   [this] {
-                       watcher_->control("step", {{"duration", 0.03}});
-                   })
-        ->setObjectName("remote.step");
+    step_ = bar->addAction(tr("Step 30 ms"), this, [this] { watcher_->control("step", {{"duration", 0.03}}); });
+    step_->setObjectName("remote.step");
     bar->addAction(tr("Reset"), this,
                    [this] {
                        watcher_->control("reset");
@@ -48,8 +45,19 @@ RemoteWindow::RemoteWindow(RemoteWatcher* watcher, QWidget* parent) : QMainWindo
     connect(field_, &FieldView::robotSelected, this, [this](int) { plots_->clear(); });
     connect(watcher_, &RemoteWatcher::message, this,
             [this](const QString& text) { statusBar()->showMessage(text, 5000); });
-    connect(watcher_, &RemoteWatcher::disconnected, this,
-            [this] { statusBar()->showMessage(tr("%1 closed the connection").arg(watcher_->address())); });
+    // A server that went away (restarted, say) is tried again every 2 s.
+    reconnect_.setInterval(2000);
+    connect(watcher_, &RemoteWatcher::disconnected, this, [this] {
+        statusBar()->showMessage(tr("%1 closed the connection: trying again every 2 s").arg(watcher_->address()));
+        reconnect_.start();
+    });
+    connect(&reconnect_, &QTimer::timeout, this, [this] {
+        QString error;
+        if (!watcher_->reconnect(&error, 500)) return;
+        reconnect_.stop();
+        plots_->clear();
+        statusBar()->showMessage(tr("connected to %1 again").arg(watcher_->address()), 5000);
+    });
     status_ = new QLabel(this);
     status_->setObjectName("remote.status");
     statusBar()->addPermanentWidget(status_);
@@ -64,6 +72,8 @@ void RemoteWindow::refresh() {
     field_->showSnapshot(snapshot);
     const int selected = field_->selectedRobot();
     inspector_->showRobot(*snapshot, selected);
+    // Step works on a paused or lockstep server only (protocol.md, CONTROL step).
+    step_->setEnabled(watcher_->connected() && (snapshot->paused || snapshot->mode == RunMode::Lockstep));
     if (selected >= 0) plots_->addSample(*snapshot, selected);
     status_->setText(tr("watching %1   t = %2 s   frame %3")
                          .arg(watcher_->address())

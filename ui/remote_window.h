@@ -9,6 +9,8 @@
 
 #include "remote_watcher.h"
 
+class QAction;
+
 namespace vssim {
 
 class FieldView;
@@ -30,7 +32,9 @@ private:
     RobotInspector* inspector_;
     LivePlots* plots_;
     QTimer timer_;
+    QTimer reconnect_;  // runs while the server is gone
     QLabel* status_ = nullptr;
+    QAction* step_ = nullptr;
 };
 
 }  // namespace vssim

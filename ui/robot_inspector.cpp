@@ -2,6 +2,7 @@
 
 #include <QFormLayout>
 #include <QLabel>
+#include <QRegularExpression>
 #include <cmath>
 
 namespace vssim {
@@ -31,7 +32,10 @@ constexpr Row kRows[] = {
 };
 
 QString number(double value, int decimals, const char* unit) {
-    return QString::asprintf("%.*f %s", decimals, value, unit);
+    QString text = QString::asprintf("%.*f %s", decimals, value, unit);
+    // A value that rounds to zero is shown as 0, not -0.000.
+    if (text.startsWith('-') && text.indexOf(QRegularExpression("[1-9]")) < 0) text.remove(0, 1);
+    return text;
 }
 
 }  // namespace
@@ -78,7 +82,8 @@ void RobotInspector::showRobot(const Snapshot& s, int robot) {
     const RobotState& state = s.robots[index];
     set("x", number(state.x, 3, "m"));
     set("y", number(state.y, 3, "m"));
-    set("theta", number(state.theta * 180.0 / M_PI, 1, "deg"));
+    // The engine keeps theta unwrapped (it counts turns); shown in (-180, 180] degrees.
+    set("theta", number(std::remainder(state.theta, 2.0 * M_PI) * 180.0 / M_PI, 1, "deg"));
     set("v", number(state.v, 3, "m/s"));
     set("omega", number(state.omega, 2, "rad/s"));
 

@@ -13,10 +13,14 @@ QString statusText(const Snapshot& s, double realTimeFactor) {
         parts << QString::asprintf("realtime x%.2f", s.speed);
     else
         parts << QString::fromLatin1(runModeName(s.mode));
-    if (std::isfinite(realTimeFactor) && realTimeFactor >= 0.0)
-        parts << QString::asprintf("x%.2f real time", realTimeFactor);
-    parts << QString::asprintf("engine %.1f ms per simulated s", s.stepCost * 1000.0);
-    if (s.paused) parts << QStringLiteral("paused");
+    // While paused nothing runs: no real-time factor or engine cost to show.
+    if (s.paused) {
+        parts << QStringLiteral("paused");
+    } else {
+        if (std::isfinite(realTimeFactor) && realTimeFactor >= 0.0)
+            parts << QString::asprintf("x%.2f real time", realTimeFactor);
+        parts << QString::asprintf("engine %.1f ms per simulated s", s.stepCost * 1000.0);
+    }
     return parts.join(QStringLiteral("   "));
 }
 

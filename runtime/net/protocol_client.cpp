@@ -12,6 +12,11 @@ ProtocolClient::ProtocolClient(QObject* parent) : QObject(parent) {
 }
 
 bool ProtocolClient::connectTo(quint16 port, const QString& host, int timeoutMs) {
+    // Again after a disconnection (a watcher reconnecting): nothing of the old connection is kept.
+    socket_.abort();
+    reader_ = protocol::MessageReader{protocol::kMaxServerMessage};
+    inbox_.clear();
+    failed_ = false;
     socket_.connectToHost(host, port);
     QElapsedTimer timer;
     timer.start();

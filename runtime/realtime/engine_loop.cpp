@@ -123,12 +123,12 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             for (const auto& [robot, e] : r.voltages) {
                 RobotControl& c = control_[robot];
                 c.lastTcp = e;
-                c.client = r.client;
+                c.client = r.client;  // -1: the server stopping a departed client's robots
                 if (c.controller == RobotController::Manual) {
-                    c.tcpWhileManual = true;  // a person has it: TCP is ignored
+                    c.tcpWhileManual = r.client >= 0;  // a person has it: TCP is ignored
                     continue;
                 }
-                c.controller = RobotController::Tcp;
+                c.controller = r.client >= 0 ? RobotController::Tcp : RobotController::None;
                 sim_->setVoltages(robot, e);
             }
             stats_.commandLatencyMs.add(1e-6 * static_cast<double>(nowNs - r.arrivalNs));
@@ -159,6 +159,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             scene_ = *r.scene;
             frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
             control_.assign(scene_.robots.size(), RobotControl{});
+            if (r.startPaused) paused_ = true;  // before the restart: not one step runs
             restart(r.arrivalNs, nowNs);
             break;
         case Kind::SetSettings: {

@@ -63,6 +63,7 @@ struct EngineRequest {
     // decrements it after handling (a per-client quota against floods).
     std::shared_ptr<std::atomic<int>> queued;
     std::shared_ptr<const Scene> scene;  // LoadScene
+    bool startPaused = false;            // LoadScene: paused at t = 0 (otherwise as before)
 };
 
 struct EngineReply {
