@@ -71,7 +71,8 @@ FieldView::FieldView(QWidget* parent) : QOpenGLWidget(parent) {
 }
 
 void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
-    if (!snapshot) return;
+    // The same snapshot again (paused, idle): nothing to redraw.
+    if (!snapshot || snapshot == snapshot_) return;
     const std::size_t bodies = snapshot->robots.size() + 1;
     if (trails_.size() != bodies || snapshot->time < trailTime_) trails_.assign(bodies, {});
     const double elapsed = std::max(0.0, snapshot->time - trailTime_);  // s since the last snapshot
@@ -140,10 +141,29 @@ QPointF FieldView::toField(const QPointF& widgetPoint) const { return worldToWid
 void FieldView::paintGL() {
     QPainter p(this);
     p.setRenderHint(QPainter::Antialiasing);
-    p.fillRect(rect(), qcolor(kOutsideColour));
-    if (!snapshot_ || !snapshot_->scene) return;
-    p.setTransform(worldToWidget());
-    paintField(p);
+    if (!snapshot_ || !snapshot_->scene) {
+        p.fillRect(rect(), qcolor(kOutsideColour));
+        return;
+    }
+    // The field itself (floor, markings, walls) changes only with the view
+    // or the scene: drawn once into a pixmap, which the GL paint engine keeps
+    // as a texture, so a redraw paints one image and then the bodies.
+    const QTransform transform = worldToWidget();
+    const qreal ratio = devicePixelRatioF();
+    if (fieldCache_.isNull() || fieldCacheTransform_ != transform || fieldCacheScene_ != snapshot_->scene ||
+        fieldCache_.size() != size() * ratio) {
+        fieldCache_ = QPixmap(size() * ratio);
+        fieldCache_.setDevicePixelRatio(ratio);
+        QPainter cache(&fieldCache_);
+        cache.setRenderHint(QPainter::Antialiasing);
+        cache.fillRect(rect(), qcolor(kOutsideColour));
+        cache.setTransform(transform);
+        paintField(cache);
+        fieldCacheTransform_ = transform;
+        fieldCacheScene_ = snapshot_->scene;
+    }
+    p.drawPixmap(0, 0, fieldCache_);
+    p.setTransform(transform);
     paintBodies(p);
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <QOpenGLWidget>
+#include <QPixmap>
 #include <QPointF>
 #include <QTransform>
 #include <deque>
@@ -75,6 +76,10 @@ private:
     int selected_ = -1;
     bool showTrails_ = true;
     bool showVelocities_ = true;
+    // The static field, drawn for this transform and scene (paintGL).
+    QPixmap fieldCache_;
+    QTransform fieldCacheTransform_;
+    std::shared_ptr<const Scene> fieldCacheScene_;
     double zoom_ = 1.0;
     QPointF pan_;  // m, the view centre's offset from the field centre
     static constexpr double kDragThresholdPx = 4.0;

@@ -582,7 +582,11 @@ void MainWindow::refresh() {
     const int selected = field_->selectedRobot();
     inspector_->showRobot(*snapshot, selected);
     if (selected >= 0) plots_->addSample(*snapshot, selected);
-    if (camera_->isVisible() && tick_ % 6 == 0) camera_->showSnapshot(*snapshot);
+    // The camera image about 5 times a second, and only when there is a new one.
+    if (camera_->isVisible() && tick_ % 6 == 0 && snapshot != cameraSnapshot_) {
+        camera_->showSnapshot(*snapshot);
+        cameraSnapshot_ = snapshot;
+    }
     if (nowMs - lastConnectionsMs_ >= 1000) {
         connections_->setClients(session_->server().clients(), 1e-3 * static_cast<double>(nowMs - lastConnectionsMs_));
         lastConnectionsMs_ = nowMs;

@@ -74,6 +74,7 @@ private:
 
     std::unique_ptr<AppSession> session_;
     std::shared_ptr<const Scene> shownScene_;  // the snapshots' scene the window was last set up for
+    std::shared_ptr<const Snapshot> cameraSnapshot_;  // the one the camera dock shows
     QString scenePath_;
     FieldView* field_ = nullptr;
     RobotInspector* inspector_ = nullptr;
