@@ -135,11 +135,13 @@ int main(int argc, char** argv) {
     window.session().post(vssim::EngineRequest::Kind::Pause);
     QTest::qWait(1500);
     const double proc1 = processCpuSeconds(), mainP = threadCpuSeconds();
+    counter.paints = 0;
     wall.restart();
     QTest::qWait(static_cast<int>(std::min(seconds, 10.0) * 1000));
     const double pausedWall = 1e-3 * static_cast<double>(wall.elapsed());
     rows.push_back({"paused", "process_cpu", "%", 100.0 * (processCpuSeconds() - proc1) / pausedWall});
     rows.push_back({"paused", "main_thread_cpu", "%", 100.0 * (threadCpuSeconds() - mainP) / pausedWall});
+    rows.push_back({"paused", "field_paints", "1/s", counter.paints / pausedWall});
 
     // Max speed in the app against the same scene headless.
     window.session().post(vssim::EngineRequest::Kind::Reset);
