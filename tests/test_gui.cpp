@@ -339,6 +339,32 @@ private slots:
         QCOMPARE(action(w, "action.undo")->text(), QString("&Undo Set the ball's velocity"));
     }
 
+    void nothingIsRedrawnWhileNothingChanges() {
+        // Paused and idle, the window reads the same snapshot again and again:
+        // the field must not be redrawn (it cost a core under software OpenGL).
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        struct PaintCounter : QObject {
+            int paints = 0;
+            bool eventFilter(QObject*, QEvent* e) override {
+                paints += e->type() == QEvent::Paint;
+                return false;
+            }
+        } counter;
+        w.fieldView().installEventFilter(&counter);
+        QTRY_VERIFY(counter.paints > 3);  // running: redrawn at the refresh rate
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        QTest::qWait(300);  // the last snapshots of the running engine are shown
+        counter.paints = 0;
+        QTest::qWait(600);  // about 18 refreshes at 30 Hz
+        QCOMPARE(counter.paints, 0);
+        // Something changes (a step): one more redraw.
+        action(w, "action.step")->trigger();
+        QTRY_VERIFY(counter.paints > 0);
+    }
+
     void quitClosesEveryWindow() {
         // File > Quit ends everything, watch windows included (it used to close
         // the main window only, leaving the process and its server running).
