@@ -5,6 +5,7 @@
 #include <QDir>
 
 #include "io/scene_io.h"
+#include "vssim/world.h"
 
 using namespace vssim;
 
@@ -47,6 +48,7 @@ private slots:
     void surrogatePairNameIsKept();
     void rangesAcceptTheirEnds();
     void bodiesMustFit();
+    void aCrowdAtTheLimitStaysInside();
     void commandsFindTheirRobotsInALargeScene();
     void unreadableFile();
     void exampleScenesLoad();
@@ -329,6 +331,47 @@ void TestSceneIo::bodiesMustFit() {
     QVERIFY2(error.startsWith("robots: the ball and 174 robots cover 0.98"), qPrintable(error));
     QVERIFY(!parseScene(R"({"field": {"length": 0.05, "width": 0.05}, "ball": {"radius": 0.02}})", &error));
     QVERIFY2(error.startsWith("ball: the ball and 0 robots cover"), qPrintable(error));
+}
+
+void TestSceneIo::aCrowdAtTheLimitStaysInside() {
+    // What the limit buys: 173 robots (just under half the field) dropped on
+    // top of each other at random, driving, stay inside the walls for 1 s.
+    std::uint32_t seed = 12345;
+    auto uniform = [&](double lo, double hi) {
+        seed = seed * 1664525u + 1013904223u;  // a fixed LCG: the same crowd every run
+        return lo + (hi - lo) * (seed >> 8) / double(1u << 24);
+    };
+    QByteArray json = R"({"robots": [)";
+    for (int i = 0; i < 173; ++i)
+        json += QStringLiteral(R"(%1{"name": "r%2", "x": %3, "y": %4, "theta": %5, "v": %6})")
+                    .arg(i ? "," : "")
+                    .arg(i)
+                    .arg(uniform(-0.6, 0.6))
+                    .arg(uniform(-0.5, 0.5))
+                    .arg(uniform(-3.0, 3.0))
+                    .arg(uniform(-2.0, 2.0))
+                    .toUtf8();
+    json += R"(], "commands": [)";
+    for (int i = 0; i < 173; ++i)
+        json += QStringLiteral(R"(%1{"robot": "r%2", "right": 7, "left": %3})")
+                    .arg(i ? "," : "")
+                    .arg(i)
+                    .arg(uniform(-7, 7))
+                    .toUtf8();
+    json += "]}";
+    const Scene scene = parseOk(json);
+    Simulation sim(scene);
+    const double hx = 0.75, hy = 0.65, slack = 1e-9;  // m
+    while (sim.state().step < 1000) {
+        sim.advanceTo(sim.state().step + 10);
+        const WorldState& s = sim.state();
+        for (const RobotState& r : s.robots) {
+            const double half = 0.0375 * (std::abs(std::cos(r.theta)) + std::abs(std::sin(r.theta)));
+            QVERIFY2(std::abs(r.x) + half <= hx + slack && std::abs(r.y) + half <= hy + slack,
+                     qPrintable(QString("robot at (%1, %2) at t = %3 s").arg(r.x).arg(r.y).arg(s.time)));
+        }
+        QVERIFY(std::abs(s.ball.x) + 0.02135 <= hx + slack && std::abs(s.ball.y) + 0.02135 <= hy + slack);
+    }
 }
 
 void TestSceneIo::surrogatePairNameIsKept() {
