@@ -106,9 +106,7 @@ int guiCommand(int argc, char** argv) {
     QString error;
     const std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
     if (!scene) {
-        err << "vssim gui: "
-            << (path.isEmpty() ? QStringLiteral("no scene file or built-in scene \"%1\"").arg(sceneName) : error)
-            << "\n";
+        err << "vssim gui: " << (path.isEmpty() ? sceneNotFoundMessage(sceneName) : error) << "\n";
         return 2;
     }
     MainWindow window(*scene, path, server);

@@ -1,4 +1,6 @@
 // vssim: the command-line entry point. Subcommands dispatch to their own files.
+#include <fcntl.h>
+#include <unistd.h>
 #include <QCoreApplication>
 #include <QTextStream>
 #include <string>
@@ -29,9 +31,26 @@ QString mainHelp() {
         .arg(VSSIM_VERSION);
 }
 
+// A standard descriptor closed by the caller (`vssim run ... >&-`) would be
+// handed out again by the next open(): the CSV would go to whatever Qt opened
+// first, or error messages into the --out file. Each closed one is held by
+// /dev/null opened read-only instead, so nothing else gets it and a write
+// to it fails ("Bad file descriptor"), which vssim run reports.
+void holdClosedStandardDescriptors() {
+    for (int fd : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO}) {
+        if (::fcntl(fd, F_GETFD) != -1) continue;
+        const int held = ::open("/dev/null", O_RDONLY);
+        if (held >= 0 && held != fd) {  // lower descriptors are open, so this is fd unless open() failed
+            ::dup2(held, fd);
+            ::close(held);
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    holdClosedStandardDescriptors();
     const bool gui = argc >= 2 ? std::string(argv[1]) == "gui" : vssim::displayAvailable();
     if (gui) return vssim::guiCommand(argc, argv);  // says so itself when there is no display
     QCoreApplication app(argc, argv);

@@ -4,8 +4,6 @@
 #include <QCommandLineParser>
 #include <QCoreApplication>
 #include <QElapsedTimer>
-#include <QFile>
-#include <QSaveFile>
 #include <QTextStream>
 #include <cmath>
 #include <cstdio>
@@ -13,7 +11,9 @@
 #include <optional>
 
 #include "io/csv_writer.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
+#include "realtime/simulation_fault.h"
 #include "vssim/integrator.h"
 #include "vssim/robot_model.h"
 #include "vssim/world.h"
@@ -85,8 +85,7 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     }
     o.scenePath = resolveScenePath(positional[0]);
     if (o.scenePath.isEmpty()) {
-        *error = QStringLiteral("%1: no such file or built-in scene (built-in: %2)")
-                     .arg(positional[0], builtinSceneNames().join(", "));
+        *error = sceneNotFoundMessage(positional[0]);
         return std::nullopt;
     }
     if (!parser.isSet(duration)) {
@@ -101,6 +100,10 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
         if (!o.dt) return std::nullopt;
         if (*o.dt > kMaxSceneTimeStep) {
             *error = QStringLiteral("--dt: must be <= %1 s (got %2)").arg(kMaxSceneTimeStep).arg(parser.value(dt));
+            return std::nullopt;
+        }
+        if (*o.dt < kMinSceneTimeStep) {
+            *error = QStringLiteral("--dt: must be >= %1 s (got %2)").arg(kMinSceneTimeStep).arg(parser.value(dt));
             return std::nullopt;
         }
     }
@@ -154,7 +157,8 @@ bool applyOptions(const RunOptions& o, Scene& scene, QString* error) {
 }
 
 // Steps beyond the integrator's stability limit for some robot (stiff
-// motors): the run is allowed (the user may want to see it), but said.
+// motors) or for the ball (strong friction on a light ball): the run is
+// allowed (the user may want to see it), but said.
 QStringList stabilityWarnings(const Scene& scene) {
     QStringList warnings;
     const SimulationSettings& s = scene.simulation;
@@ -171,6 +175,18 @@ QStringList stabilityWarnings(const Scene& scene) {
                             .arg(limit * 1e3, 0, 'g', 3)
                             .arg(s.dt * 1e3, 0, 'g', 3);
     }
+    // The ball's velocity decays as exp(lambda t) with lambda = -friction/mass
+    // (model.md eq. 9): one real eigenvalue, with the same limits as a robot's.
+    const double ballRate = scene.ball_params.friction / scene.ball_params.mass;  // 1/s
+    const double ballLimit = stableStepLimit(s.integrator, ballRate);             // s
+    if (s.dt > ballLimit)
+        warnings << QStringLiteral(
+                        "warning: the ball has a friction time constant (mass/friction) of %1 ms: %2 is unstable "
+                        "for dt > %3 ms (dt = %4 ms); use --integrator exact or a --dt below %3 ms")
+                        .arg(1e3 / ballRate, 0, 'g', 3)
+                        .arg(integratorName(s.integrator))
+                        .arg(ballLimit * 1e3, 0, 'g', 3)
+                        .arg(s.dt * 1e3, 0, 'g', 3);
     return warnings;
 }
 
@@ -210,23 +226,28 @@ QString runHelpText() {
                "\n"
                "Options:\n"
                "  --duration S            simulated time to run, s (required)\n"
-               "  --dt S                  integration step, s, 0 < S <= 0.1 (default: the scene's, 0.001)\n"
+               "  --dt S                  integration step, s, 1e-6 <= S <= 0.1 (default: the scene's, 0.001)\n"
                "  --integrator NAME       euler | rk4 | exact (default: the scene's, rk4); exact solves the\n"
                "                          motor dynamics in closed form and, between voltage changes and\n"
                "                          away from contacts, steps straight to the next sample\n"
                "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
                "  --sample S              time between samples, s, >= dt (default: dt)\n"
-               "  --out FILE              write the CSV to FILE (written only if the run succeeds)\n"
+               "  --out FILE              write the CSV to FILE; a regular file is replaced only when the\n"
+               "                          run succeeds; a device, a FIFO or a file with other hard links\n"
+               "                          is written in place; a symbolic link's target gets the CSV\n"
                "  -h, --help              show this help\n"
                "\n"
                "Built-in scenes: %1\n"
                "A summary (steps, contacts, run time, real-time factor) goes to standard error, and a\n"
-               "warning when dt is beyond Euler's or RK4's stability limit for a robot of the scene.\n"
+               "warning when dt is beyond Euler's or RK4's stability limit for a robot or the ball.\n"
                "Samples fall on the first step boundary at or after each multiple of --sample, and the\n"
                "run ends on the first step boundary at or after --duration; its final state is always\n"
                "written.\n"
+               "The run stops when the state stops being finite (NaN or infinity), naming the time and\n"
+               "the body; the rows before it are written.\n"
                "Exit status: 0 success, 2 bad option or scene or an output file that cannot be created,\n"
-               "1 failed while writing the output.\n")
+               "1 a write failed (the message names the output and the system's reason) or the state\n"
+               "stopped being finite.\n")
         .arg(builtinSceneNames().join(", "));
 }
 
@@ -253,39 +274,41 @@ int runCommand(const QStringList& arguments) {
     }
     for (const QString& warning : stabilityWarnings(*scene)) err() << "vssim run: " << warning << "\n";
 
-    std::unique_ptr<QIODevice> device;
-    QSaveFile* saveFile = nullptr;
+    std::unique_ptr<OutputFile> out;
     if (options->outPath.isEmpty()) {
-        auto file = std::make_unique<QFile>();
-        file->open(stdout, QIODevice::WriteOnly);
-        device = std::move(file);
+        out = OutputFile::standardOutput();
     } else {
-        auto file = std::make_unique<QSaveFile>(options->outPath);
-        if (!file->open(QIODevice::WriteOnly)) {
-            err() << "vssim run: cannot write " << options->outPath << ": " << file->errorString() << "\n";
+        out = OutputFile::open(options->outPath, &error);
+        if (!out) {
+            err() << "vssim run: cannot write " << error << "\n";
             return 2;
         }
-        saveFile = file.get();
-        device = std::move(file);
     }
 
     Simulation simulation(*scene);
     const double dt = simulation.dt();
     const std::int64_t lastStep = Simulation::stepIndexAtOrAfter(options->duration, dt);
     const double sample = options->sample.value_or(dt);
-    CsvWriter csv(device.get());
+    CsvWriter csv(*out);
     csv.writeHeader();
     csv.writeSample(simulation);
+    std::optional<SimulationFault> fault;
+    double lastFiniteTime = 0.0;  // s: the last time the state was checked and found finite
     std::int64_t sampleIndex = 1;
     std::int64_t nextSampleStep = Simulation::stepIndexAtOrAfter(sample, dt);
     std::int64_t contacts = 0, stepCalls = 0, longSteps = 0;
     std::int64_t lastWritten = 0;  // step of the last sample written
     ProgressReporter progress(lastStep);
-    while (simulation.state().step < lastStep) {
+    // Stops at the first failed write (nothing more would get through) and
+    // at the first non-finite state (nothing after it means anything).
+    while (simulation.state().step < lastStep && csv.ok()) {
         const AdvanceReport r = simulation.advanceTo(std::min(lastStep, nextSampleStep));
         contacts += r.contacts;
         stepCalls += r.stepCalls;
         longSteps += r.longSteps;
+        fault = findSimulationFault(simulation);
+        if (fault) break;
+        lastFiniteTime = simulation.state().time;
         if (simulation.state().step >= nextSampleStep) {
             csv.writeSample(simulation);
             lastWritten = simulation.state().step;
@@ -295,12 +318,22 @@ int runCommand(const QStringList& arguments) {
         }
         progress.update(simulation.state().step);
     }
-    if (lastWritten != simulation.state().step) csv.writeSample(simulation);  // the final state, always
+    if (!fault && lastWritten != simulation.state().step) csv.writeSample(simulation);  // the final state, always
     progress.done();
-    if (!csv.finish() || (saveFile && !saveFile->commit())) {
-        err() << "vssim run: failed to write " << (options->outPath.isEmpty() ? "standard output" : options->outPath)
-              << ": " << device->errorString() << "\n";
-        if (saveFile) saveFile->cancelWriting();
+    if (fault) {
+        // The rows up to the last finite sample are written (a file named by
+        // --out, though, only where it is written in place: see OutputFile).
+        csv.finish();
+        if (out->inPlace()) out->commit();
+        const QString since = fault->time - lastFiniteTime > 1.5 * dt
+                                  ? QStringLiteral(" (it was finite at t = %1 s)").arg(lastFiniteTime, 0, 'g', 10)
+                                  : QString();
+        err() << "vssim run: stopped: " << fault->message() << since
+              << "; a step beyond the integrator's stability limit or extreme parameters can cause this\n";
+        return 1;
+    }
+    if (!csv.finish() || !out->commit()) {
+        err() << "vssim run: failed to write " << out->name() << ": " << out->error() << "\n";
         return 1;
     }
     const double seconds = progress.elapsedSeconds();

@@ -5,6 +5,7 @@
 #include <QProcess>
 #include <QProcessEnvironment>
 #include <QStringList>
+#include <functional>
 
 namespace vssim::test {
 
@@ -14,9 +15,12 @@ struct Result {
     QByteArray err;     // standard error
 };
 
-// Runs VSSIM_BINARY with `args`, waiting at most two minutes.
-inline Result runVssim(const QStringList& args) {
+// Runs VSSIM_BINARY with `args`, waiting at most two minutes. `setUp`, when
+// given, prepares the process before it starts (its standard output, a child
+// modifier).
+inline Result runVssim(const QStringList& args, const std::function<void(QProcess&)>& setUp = {}) {
     QProcess p;
+    if (setUp) setUp(p);
     // Never a display: `vssim` alone would open the desktop app.
     QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
     for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"}) env.remove(name);

@@ -2,8 +2,12 @@
 // of bad input giving a clear message, a non-zero exit and no output file.
 #include <QtTest>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
 #include <Eigen/Eigenvalues>
 #include <QTemporaryDir>
+#include <cerrno>
 
 #include "io/scene_io.h"
 #include "run_vssim.h"
@@ -20,6 +24,31 @@ using test::runVssim;
 QString sceneFile(const char* name) { return QStringLiteral(VSSIM_SOURCE_DIR "/resources/scenes/%1").arg(name); }
 
 const char* kHeader = "t,body,x,y,theta,v,omega,e_right,e_left,omega_right,omega_left,i_right,i_left";
+
+QByteArray readAll(const QString& path) {
+    QFile f(path);
+    return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray("(unreadable)");
+}
+
+void writeFile(const QString& path, const QByteArray& content) {
+    QFile f(path);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    QCOMPARE(f.write(content), content.size());
+}
+
+struct stat statOf(const QString& path) {
+    struct stat st {};
+    if (::lstat(QFile::encodeName(path).constData(), &st) != 0) st.st_mode = 0;
+    return st;
+}
+
+// A robot within every documented range whose motors are far too stiff for
+// RK4 at 10 ms (time constant 3e-15 s): its state overflows within two steps.
+const char* kRunawayScene = R"({"simulation": {"dt": 0.01}, "ball": {"x": 0.5},
+    "robots": [{"name": "wild", "params": {"mass": 0.01, "inertia": 1e-7,
+        "right": {"resistance": 0.001, "k": 100, "rotor_inertia": 0},
+        "left": {"resistance": 0.001, "k": 100, "rotor_inertia": 0}}}],
+    "commands": [{"robot": "wild", "right": 7, "left": 7}]})";
 
 }  // namespace
 
@@ -39,6 +68,14 @@ private slots:
     void noArgumentsRunsTheDemo();
     void finalStateAlwaysWritten();
     void warnsWhenTheStepIsUnstable();
+    void warnsWhenTheBallIsUnstable();
+    void outWritesADeviceInPlace();
+    void outWritesAFifoInPlace();
+    void outKeepsHardLinks();
+    void outFollowsSymbolicLinks();
+    void writeFailuresExitOne();
+    void stopsOnANonFiniteState();
+    void sceneThatIsNotAFile();
 };
 
 void TestCli::helpDescribesEveryOption() {
@@ -272,6 +309,205 @@ void TestCli::warnsWhenTheStepIsUnstable() {
     QVERIFY2(!fine.err.contains("warning"), fine.err.constData());
     // The default robot is far from any limit.
     QVERIFY(!runVssim({"run", "kickoff_3v3", "--duration", "0.01", "--dt", "0.1"}).err.contains("warning"));
+}
+
+void TestCli::warnsWhenTheBallIsUnstable() {
+    // Friction 200 N s/m on the 46 g ball: lambda = -200/0.046 = -4348 /s, and
+    // RK4 is stable for h |lambda| <= 2.785 (0.641 ms), Euler for <= 2 (0.46
+    // ms). At 1 ms the ball went from 1 m/s to 1,100 m/s without a word.
+    QTemporaryDir dir;
+    const QString scene = dir.filePath("sticky.json");
+    writeFile(scene, R"({"ball": {"vx": 1, "friction": 200}})");
+    const double rate = 200 / 0.046;  // 1/s
+    const Result rk4 = runVssim({"run", scene, "--duration", "0.01"});
+    QCOMPARE(rk4.exitCode, 0);
+    const QString expected = QStringLiteral(
+                                 "vssim run: warning: the ball has a friction time constant (mass/friction) of %1 ms: "
+                                 "rk4 is unstable for dt > %2 ms (dt = 1 ms); use --integrator exact or a --dt below "
+                                 "%2 ms\n")
+                                 .arg(1e3 / rate, 0, 'g', 3)
+                                 .arg(2.785293563405282e3 / rate, 0, 'g', 3);
+    QVERIFY2(QString::fromUtf8(rk4.err).contains(expected), qPrintable("expected: " + expected + "got: " + rk4.err));
+    QVERIFY(expected.contains("of 0.23 ms") && expected.contains("dt > 0.641 ms"));
+    const Result euler = runVssim({"run", scene, "--duration", "0.01", "--integrator", "euler", "--dt", "0.0005"});
+    QVERIFY2(euler.err.contains("euler is unstable for dt > 0.46 ms (dt = 0.5 ms)"), euler.err.constData());
+    // Within the limits, or exact: no warning.
+    for (const QStringList& options : {QStringList{"--dt", "0.0006"}, QStringList{"--integrator", "exact"}}) {
+        const Result quiet = runVssim(QStringList{"run", scene, "--duration", "0.01"} + options);
+        QCOMPARE(quiet.exitCode, 0);
+        QVERIFY2(!quiet.err.contains("warning"), quiet.err.constData());
+    }
+}
+
+void TestCli::outWritesADeviceInPlace() {
+    // --out used to write a temporary file and rename it over the target: as
+    // root, `--out /dev/null` made /dev/null a regular file. Here on device
+    // nodes made in a temporary folder (never the system's own): the null
+    // device takes the CSV and stays a device; the full device fails with the
+    // system's reason and exit 1.
+    QTemporaryDir dir;
+    const QString null = dir.filePath("null"), full = dir.filePath("full");
+    const bool root = ::geteuid() == 0;
+    const int madeNull = ::mknod(QFile::encodeName(null).constData(), S_IFCHR | 0666, makedev(1, 3));
+    const int madeFull = ::mknod(QFile::encodeName(full).constData(), S_IFCHR | 0666, makedev(1, 7));
+    if (!root) {
+        // Without root no device can be made (and none replaced): the full
+        // device case runs on the system's /dev/full, which an ordinary user
+        // cannot replace, and writing to it is harmless.
+        QCOMPARE(madeNull, -1);
+        QCOMPARE(errno, EPERM);
+        const Result r = runVssim({"run", "ball_walls", "--duration", "0.01", "--out", "/dev/full"});
+        QCOMPARE(r.exitCode, 1);
+        QVERIFY2(r.err.contains("vssim run: failed to write /dev/full: No space left on device"), r.err.constData());
+        QVERIFY(S_ISCHR(statOf("/dev/full").st_mode));
+        return;
+    }
+    QCOMPARE(madeNull, 0);
+    QCOMPARE(madeFull, 0);
+    const Result r = runVssim({"run", "ball_walls", "--duration", "0.01", "--out", null});
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY2(S_ISCHR(statOf(null).st_mode), "the null device was replaced");
+    QCOMPARE(statOf(null).st_rdev, makedev(1, 3));
+    QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::System | QDir::NoDotAndDotDot).size(), 2);
+    const Result f = runVssim({"run", "ball_walls", "--duration", "0.01", "--out", full});
+    QCOMPARE(f.exitCode, 1);
+    QVERIFY2(
+        f.err.contains(QStringLiteral("vssim run: failed to write %1: No space left on device").arg(full).toUtf8()),
+        f.err.constData());
+    QVERIFY(S_ISCHR(statOf(full).st_mode));
+    QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::System | QDir::NoDotAndDotDot).size(), 2);
+}
+
+void TestCli::outWritesAFifoInPlace() {
+    // A FIFO gets the CSV through itself (a reader process reads it) and
+    // stays a FIFO; renamed over, the reader would wait for ever.
+    QTemporaryDir dir;
+    const QString fifo = dir.filePath("pipe");
+    QCOMPARE(::mkfifo(QFile::encodeName(fifo).constData(), 0600), 0);
+    QProcess reader;
+    reader.start("cat", {fifo});
+    QVERIFY(reader.waitForStarted());
+    const Result r = runVssim({"run", "ball_walls", "--duration", "0.05", "--out", fifo});
+    const bool readerDone = reader.waitForFinished(20000);
+    if (!readerDone) reader.kill();
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY2(readerDone, "the reader of the FIFO got no end of file");
+    const Result plain = runVssim({"run", "ball_walls", "--duration", "0.05"});
+    QCOMPARE(reader.readAllStandardOutput(), plain.out);
+    QVERIFY(S_ISFIFO(statOf(fifo).st_mode));
+}
+
+void TestCli::outKeepsHardLinks() {
+    // A file with two names: both see the new CSV, still one file.
+    QTemporaryDir dir;
+    const QString a = dir.filePath("a.csv"), b = dir.filePath("b.csv");
+    writeFile(a, "old\n");
+    QCOMPARE(::link(QFile::encodeName(a).constData(), QFile::encodeName(b).constData()), 0);
+    const Result r = runVssim({"run", "ball_walls", "--duration", "0.05", "--out", a});
+    QCOMPARE(r.exitCode, 0);
+    const Result plain = runVssim({"run", "ball_walls", "--duration", "0.05"});
+    QCOMPARE(readAll(a), plain.out);
+    QCOMPARE(readAll(b), plain.out);
+    QCOMPARE(statOf(a).st_ino, statOf(b).st_ino);
+    QCOMPARE(statOf(a).st_nlink, nlink_t(2));
+}
+
+void TestCli::outFollowsSymbolicLinks() {
+    // The link's target gets the CSV (through a relative link and a chain of
+    // two); the links stay links. A single-link regular file is still
+    // replaced only when the run succeeds.
+    QTemporaryDir dir;
+    QVERIFY(QDir(dir.path()).mkdir("sub"));
+    const QString target = dir.filePath("sub/target.csv"), link = dir.filePath("link.csv"),
+                  link2 = dir.filePath("sub/link2.csv");
+    writeFile(target, "old\n");
+    QCOMPARE(::symlink("target.csv", QFile::encodeName(link2).constData()), 0);
+    QCOMPARE(::symlink("sub/link2.csv", QFile::encodeName(link).constData()), 0);
+    const Result r = runVssim({"run", "ball_walls", "--duration", "0.05", "--out", link});
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY(S_ISLNK(statOf(link).st_mode));
+    QVERIFY(S_ISLNK(statOf(link2).st_mode));
+    QVERIFY(S_ISREG(statOf(target).st_mode));
+    QCOMPARE(readAll(link), runVssim({"run", "ball_walls", "--duration", "0.05"}).out);
+    QCOMPARE(QDir(dir.filePath("sub")).entryList(QDir::AllEntries | QDir::System | QDir::NoDotAndDotDot).size(), 2);
+    // A dangling link: the file is created where it points.
+    const QString dangling = dir.filePath("dangling.csv");
+    QCOMPARE(::symlink("sub/new.csv", QFile::encodeName(dangling).constData()), 0);
+    QCOMPARE(runVssim({"run", "ball_walls", "--duration", "0.01", "--out", dangling}).exitCode, 0);
+    QVERIFY(S_ISLNK(statOf(dangling).st_mode));
+    QVERIFY(readAll(dir.filePath("sub/new.csv")).startsWith(kHeader));
+    // A directory is refused as it is.
+    const Result d = runVssim({"run", "ball_walls", "--duration", "0.01", "--out", dir.filePath("sub")});
+    QCOMPARE(d.exitCode, 2);
+    QVERIFY2(d.err.contains("vssim run: cannot write " + QFile::encodeName(dir.filePath("sub")) + ": Is a directory"),
+             d.err.constData());
+}
+
+void TestCli::writeFailuresExitOne() {
+    // Standard output on a full device, and closed: both ended with exit 0
+    // and the CSV lost. /dev/full is opened here as the child's standard
+    // output (as `> /dev/full` does), which only writes to it.
+    const Result full = runVssim({"run", "kickoff_3v3", "--duration", "0.01"},
+                                 [](QProcess& p) { p.setStandardOutputFile("/dev/full"); });
+    QCOMPARE(full.exitCode, 1);
+    QVERIFY2(full.err.contains("vssim run: failed to write standard output: No space left on device\n"),
+             full.err.constData());
+    const Result closed = runVssim({"run", "kickoff_3v3", "--duration", "0.01"},
+                                   [](QProcess& p) { p.setChildProcessModifier([] { ::close(STDOUT_FILENO); }); });
+    QCOMPARE(closed.exitCode, 1);
+    QVERIFY2(closed.err.contains("vssim run: failed to write standard output: Bad file descriptor (it is closed)\n"),
+             closed.err.constData());
+    // A closed standard error: nothing else may take its descriptor (the CSV
+    // file would get the messages).
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out.csv");
+    const Result quiet = runVssim({"run", "kickoff_3v3", "--duration", "0.01", "--out", out},
+                                  [](QProcess& p) { p.setChildProcessModifier([] { ::close(STDERR_FILENO); }); });
+    QCOMPARE(quiet.exitCode, 0);
+    QCOMPARE(readAll(out), runVssim({"run", "kickoff_3v3", "--duration", "0.01"}).out);
+}
+
+void TestCli::stopsOnANonFiniteState() {
+    // A NaN state used to be written as 2,000 rows of "nan" with exit 0. The
+    // run stops at the first non-finite state, says when and which body, and
+    // writes the rows before it.
+    QTemporaryDir dir;
+    const QString scene = dir.filePath("runaway.json");
+    writeFile(scene, kRunawayScene);
+    const Result r = runVssim({"run", scene, "--duration", "1"});
+    QCOMPARE(r.exitCode, 1);
+    QVERIFY2(r.err.contains("vssim run: stopped: at t = 0.02 s, robot \"wild\" (x = nan m, y = nan m, theta = nan rad, "
+                            "v = nan m/s, omega = nan rad/s) has a non-finite state"),
+             r.err.constData());
+    QVERIFY(!r.out.toLower().contains("nan"));
+    const QList<QByteArray> lines = r.out.trimmed().split('\n');
+    QCOMPARE(lines.size(), 1 + 2 * 2);  // header, samples at 0 and 0.01 s (robot and ball)
+    QVERIFY(lines.last().startsWith("0.01,ball,"));
+    // With sparse samples the message says since when it was finite.
+    const Result sparse = runVssim({"run", scene, "--duration", "1", "--sample", "0.5"});
+    QCOMPARE(sparse.exitCode, 1);
+    QVERIFY2(sparse.err.contains("at t = 0.5 s, robot \"wild\"") && sparse.err.contains("(it was finite at t = 0 s)"),
+             sparse.err.constData());
+    // With --out, a failed run leaves no file.
+    const QString out = dir.filePath("out.csv");
+    QCOMPARE(runVssim({"run", scene, "--duration", "1", "--out", out}).exitCode, 1);
+    QVERIFY(!QFile::exists(out));
+}
+
+void TestCli::sceneThatIsNotAFile() {
+    // A directory or a FIFO given as the scene was "no such file or built-in scene".
+    QTemporaryDir dir;
+    const QString fifo = dir.filePath("scene.json");
+    QCOMPARE(::mkfifo(QFile::encodeName(fifo).constData(), 0600), 0);
+    const Result d = runVssim({"run", dir.path(), "--duration", "1"});
+    QCOMPARE(d.exitCode, 2);
+    QVERIFY2(d.err.contains(dir.path().toUtf8() + ": is a directory, not a scene file"), d.err.constData());
+    const Result f = runVssim({"run", fifo, "--duration", "1"});
+    QCOMPARE(f.exitCode, 2);
+    QVERIFY2(f.err.contains(fifo.toUtf8() + ": is a FIFO (named pipe), not a scene file"), f.err.constData());
+    const Result missing = runVssim({"run", dir.filePath("nothing.json"), "--duration", "1"});
+    QVERIFY2(missing.err.contains("nothing.json: no such file or built-in scene (built-in: ball_walls,"),
+             missing.err.constData());
 }
 
 QTEST_GUILESS_MAIN(TestCli)

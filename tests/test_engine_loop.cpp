@@ -34,7 +34,17 @@ struct RecordingSink : EngineSink {
         instants.push_back({frame, sim.state().step, hashState(sim.state())});
     }
     void reply(const EngineReply& r) override { replies.push_back(r); }
+    std::vector<SimulationFault> faults;
+    void halted(const SimulationFault& fault, std::int64_t) override { faults.push_back(fault); }
 };
+
+// A scene no file may hold (the reader refuses a ball of 1e-308 kg): its
+// friction rate of 2e306 /s overflows the ball's velocity in the first step.
+Scene runawayBall() {
+    Scene scene = twoRobots();
+    scene.ball_params.mass = 1e-308;
+    return scene;
+}
 
 EngineRequest voltages(std::int64_t arrivalNs, int robot, double right, double left) {
     EngineRequest r;
@@ -411,6 +421,66 @@ private slots:
         // Reset still goes back to the scene's own start.
         loop.handle(control(EngineRequest::Kind::Reset, 100 * kMs), 100 * kMs);
         QCOMPARE(loop.simulation().state().robots[0].x, -0.3);
+    }
+
+    void haltsOnANonFiniteState() {
+        // Realtime: the loop stops at the first frame whose state is not
+        // finite, emits no camera instant of it, tells the sink once, pauses,
+        // and refuses to resume or step until the state is finite again.
+        RecordingSink sink;
+        EngineLoop loop(runawayBall(), {}, sink);
+        loop.start(0);
+        loop.runUntil(100 * kMs);
+        QCOMPARE(sink.instants.size(), std::size_t(1));  // instant 0 only
+        QCOMPARE(sink.faults.size(), std::size_t(1));
+        QCOMPARE(sink.faults[0].body, 2);  // the ball, after the two robots
+        QCOMPARE(sink.faults[0].time, loop.simulation().state().time);
+        QVERIFY2(sink.faults[0].message().startsWith("at t = 0.03 s, the ball (x = "),
+                 qPrintable(sink.faults[0].message()));
+        QVERIFY(loop.fault().has_value());
+        QVERIFY(loop.paused());
+        QCOMPARE(loop.nextWakeNs(), std::numeric_limits<std::int64_t>::max());
+        const std::int64_t step = loop.simulation().state().step;
+        loop.runUntil(500 * kMs);
+        QCOMPARE(loop.simulation().state().step, step);
+        for (const EngineRequest::Kind kind : {EngineRequest::Kind::Resume, EngineRequest::Kind::Step}) {
+            loop.handle(control(kind, 600 * kMs, 0.01), 600 * kMs);
+            QCOMPARE(sink.replies.back().ok, false);
+            QCOMPARE(sink.replies.back().error, QString("non_finite"));
+            QVERIFY2(sink.replies.back().message.startsWith("the simulation halted: at t = 0.03 s, the ball"),
+                     qPrintable(sink.replies.back().message));
+        }
+        QCOMPARE(loop.simulation().state().step, step);
+        QCOMPARE(sink.faults.size(), std::size_t(1));
+        // Placing the ball at rest mends the state: stepping works again.
+        EngineRequest ball = control(EngineRequest::Kind::PlaceBall);
+        ball.ball = {0.0, -0.5, 0.0, 0.0};
+        loop.handle(ball, 700 * kMs);
+        loop.handle(control(EngineRequest::Kind::Step, 700 * kMs, 0.01), 700 * kMs);
+        QVERIFY(sink.replies.back().ok);
+        QVERIFY(!loop.fault().has_value());
+        QCOMPARE(loop.simulation().state().step, step + 10);
+        // A reset clears a halt too (and the runaway scene halts again).
+        loop.handle(control(EngineRequest::Kind::Reset, 800 * kMs), 800 * kMs);
+        QVERIFY(!loop.fault().has_value());
+        QCOMPARE(loop.simulation().state().step, 0);
+    }
+
+    void lockstepStepHaltsWithAnError() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(runawayBall(), settings, sink);
+        loop.start(0);
+        loop.handle(control(EngineRequest::Kind::Step, 0, 0.05), 0);
+        QCOMPARE(sink.replies.back().error, QString("non_finite"));
+        QCOMPARE(sink.instants.size(), std::size_t(1));  // no image of a NaN world
+        QCOMPARE(sink.faults.size(), std::size_t(1));
+        QCOMPARE(sink.faults[0].time, 0.05);
+        QVERIFY(!loop.paused());  // lockstep has no pause: the next step is refused instead
+        loop.handle(control(EngineRequest::Kind::Step, 0, 0.05), 0);
+        QCOMPARE(sink.replies.back().error, QString("non_finite"));
+        QCOMPARE(loop.simulation().state().time, 0.05);
     }
 
     void statsReply() {

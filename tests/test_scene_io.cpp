@@ -5,6 +5,7 @@
 #include <QDir>
 
 #include "io/scene_io.h"
+#include "vssim/world.h"
 
 using namespace vssim;
 
@@ -44,6 +45,11 @@ private slots:
     void roundTripIsExact();
     void badInput_data();
     void badInput();
+    void surrogatePairNameIsKept();
+    void rangesAcceptTheirEnds();
+    void bodiesMustFit();
+    void aCrowdAtTheLimitStaysInside();
+    void commandsFindTheirRobotsInALargeScene();
     void unreadableFile();
     void exampleScenesLoad();
 };
@@ -172,14 +178,15 @@ void TestSceneIo::badInput_data() {
     QTest::newRow("object expected") << QByteArray(R"({"ball": 3})") << "ball: expected an object";
     QTest::newRow("array expected") << QByteArray(R"({"robots": {}})") << "robots: expected an array";
     QTest::newRow("negative mass") << QByteArray(R"({"robots": [{"params": {"mass": -1}}]})")
-                                   << "robots[0].params.mass: must be > 0 (got -1)";
+                                   << "robots[0].params.mass: must be between 0.0001 and 1000 kg (got -1)";
     QTest::newRow("zero resistance") << QByteArray(R"({"robot_defaults": {"left": {"resistance": 0}}})")
-                                     << "robot_defaults.left.resistance: must be > 0 (got 0)";
+                                     << "robot_defaults.left.resistance: must be between 0.001 and 1e+06 Ω (got 0)";
     QTest::newRow("negative friction") << QByteArray(R"({"ball": {"friction": -0.1}})")
-                                       << "ball.friction: must be >= 0 (got -0.1)";
+                                       << "ball.friction: must be between 0 and 1000 N s/m (got -0.1)";
     QTest::newRow("restitution") << QByteArray(R"({"simulation": {"restitution": 1.5}})")
                                  << "simulation.restitution: must be between 0 and 1 (got 1.5)";
-    QTest::newRow("dt too long") << QByteArray(R"({"simulation": {"dt": 0.5}})") << "simulation.dt: must be <= 0.1 s";
+    QTest::newRow("dt too long") << QByteArray(R"({"simulation": {"dt": 0.5}})")
+                                 << "simulation.dt: must be between 1e-06 and 0.1 s (got 0.5)";
     QTest::newRow("infinite") << QByteArray(R"({"ball": {"vx": 1e999}})")
                               << "line 1, column 22: illegal number";  // Qt rejects it as it parses
     QTest::newRow("bad integrator")
@@ -193,7 +200,7 @@ void TestSceneIo::badInput_data() {
                                    << "commands[0].robot: no robot named \"blue7\"";
     QTest::newRow("command without robot") << QByteArray(R"({"commands": [{"t": 0}]})") << "commands[0].robot: missing";
     QTest::newRow("negative time") << QByteArray(R"({"robots": [{}], "commands": [{"t": -1, "robot": "yellow0"}]})")
-                                   << "commands[0].t: must be >= 0";
+                                   << "commands[0].t: must be between 0 and 1e+09 s (got -1)";
     QTest::newRow("robot outside") << QByteArray(R"({"robots": [{"x": 0.74}]})")
                                    << "robots[0].x: 0.74 m is outside the field";
     QTest::newRow("robot corner outside")
@@ -201,15 +208,85 @@ void TestSceneIo::badInput_data() {
         << "robots[0].x: 0.7125 m is outside the field (|x| must be <= 0.6969669914 m at heading 0.785398 rad)";
     QTest::newRow("command too late") << QByteArray(
                                              R"({"robots": [{}], "commands": [{"t": 1e300, "robot": "yellow0"}]})")
-                                      << "commands[0].t: must be <= 1e+09 s (got 1e+300)";
+                                      << "commands[0].t: must be between 0 and 1e+09 s (got 1e+300)";
     QTest::newRow("comma in name") << QByteArray(R"({"robots": [{"name": "a,b"}]})")
                                    << "robots[0].name: \"a,b\" may not contain commas";
+    // Names and keys from the file are quoted printable: a control character shows as "?".
     QTest::newRow("newline in name") << QByteArray(R"({"robots": [{"name": "a\nb"}]})")
-                                     << "robots[0].name: \"a\nb\" may not contain commas, quotes or control characters";
+                                     << "robots[0].name: \"a?b\" may not contain commas, quotes or control characters";
+    QTest::newRow("escape in command's robot")
+        << QByteArray(R"({"robots": [{}], "commands": [{"robot": "a\u001b[31mb\r"}]})")
+        << "commands[0].robot: no robot named \"a?[31mb?\"";
+    QTest::newRow("escape in unknown key") << QByteArray(R"({"ball": {"x\u001b[2J": 1}})") << "ball.x?[2J: unknown key";
+    QTest::newRow("escape in team") << QByteArray(R"({"robots": [{"team": "blue\n"}]})")
+                                    << "robots[0].team: expected one of \"yellow\", \"blue\" (got \"blue?\")";
+    QTest::newRow("long name cut") << QByteArray(R"({"robots": [{}], "commands": [{"robot": ")" +
+                                                 QByteArray(1000, 'z') + R"("}]})")
+                                   << "commands[0].robot: no robot named \"" + QString(40, 'z') + "...\"";
+    // A lone UTF-16 surrogate has no UTF-8 form: the CSV would show "?" for
+    // both of these names, and a command naming one would not find it.
+    QTest::newRow("lone surrogate in name")
+        << QByteArray(R"({"robots": [{"name": "\ud800", "x": -0.3}, {"name": "\udfff", "x": 0.3}]})")
+        << "robots[0].name: \"\uFFFD\" is not valid Unicode (it holds a lone UTF-16 surrogate such as \\ud800)";
+    QTest::newRow("lone surrogate after a pair")
+        << QByteArray(R"({"robots": [{"name": "ok\ud83d\ude00"}, {"name": "x\ud83d", "x": 0.3}]})")
+        << "robots[1].name: \"x\uFFFD\" is not valid Unicode";
     QTest::newRow("name ball") << QByteArray(R"({"robots": [{"name": "ball"}]})")
                                << "robots[0].name: \"ball\" is reserved for the ball";
     QTest::newRow("ball outside") << QByteArray(R"({"ball": {"y": -0.64}})") << "ball.y: -0.64 m is outside the field";
     QTest::newRow("version") << QByteArray(R"({"version": 2})") << "version: unsupported version 2";
+    // Extreme finite values ran into NaN (exit 0) or took 0.6 s per 1 ms
+    // step: each key has a physical range (scene_limits.h, docs/scenes.md).
+    QTest::newRow("ball speed") << QByteArray(R"({"ball": {"vx": 1e308}})")
+                                << "ball.vx: must be between -20 and 20 m/s (got 1e+308)";
+    QTest::newRow("ball speed diagonal") << QByteArray(R"({"ball": {"vx": 15, "vy": -15}})")
+                                         << "ball: the speed |(vx, vy)| must be <= 20 m/s (got 21.2132)";
+    QTest::newRow("ball mass") << QByteArray(R"({"ball": {"mass": 1e-308}})")
+                               << "ball.mass: must be between 0.0001 and 100 kg (got 1e-308)";
+    QTest::newRow("robot mass subnormal")
+        << QByteArray(R"({"robots": [{"params": {"mass": 5e-324}}]})")
+        << "robots[0].params.mass: must be between 0.0001 and 1000 kg (got 4.94066e-324)";
+    QTest::newRow("robot speed") << QByteArray(R"({"robots": [{"v": 1e10}]})")
+                                 << "robots[0].v: must be between -10 and 10 m/s (got 1e+10)";
+    QTest::newRow("yaw rate") << QByteArray(R"({"robots": [{"omega": -101}]})")
+                              << "robots[0].omega: must be between -100 and 100 rad/s (got -101)";
+    QTest::newRow("inertia") << QByteArray(R"({"robot_defaults": {"inertia": 1e300}})")
+                             << "robot_defaults.inertia: must be between 1e-09 and 100 kg m² (got 1e+300)";
+    QTest::newRow("side") << QByteArray(R"({"robot_defaults": {"side": 11}})")
+                          << "robot_defaults.side: must be between 0.0001 and 10 m (got 11)";
+    QTest::newRow("wheel base") << QByteArray(R"({"robot_defaults": {"wheel_base": 1e-200}})")
+                                << "robot_defaults.wheel_base: must be between 0.0001 and 10 m";
+    QTest::newRow("linear friction") << QByteArray(R"({"robot_defaults": {"friction_linear": 1e6}})")
+                                     << "robot_defaults.friction_linear: must be between 0 and 1000 N s/m";
+    QTest::newRow("angular friction") << QByteArray(R"({"robot_defaults": {"friction_angular": 101}})")
+                                      << "robot_defaults.friction_angular: must be between 0 and 100 N m s/rad";
+    QTest::newRow("max voltage") << QByteArray(R"({"robot_defaults": {"max_voltage": 0}})")
+                                 << "robot_defaults.max_voltage: must be > 0 and <= 1000 V (got 0)";
+    QTest::newRow("wheel radius") << QByteArray(R"({"robots": [{"params": {"left": {"wheel_radius": 2}}}]})")
+                                  << "robots[0].params.left.wheel_radius: must be between 0.0001 and 1 m (got 2)";
+    QTest::newRow("motor constant") << QByteArray(R"({"robot_defaults": {"right": {"k": 1e-300}}})")
+                                    << "robot_defaults.right.k: must be between 1e-05 and 100 V s/rad";
+    QTest::newRow("rotor inertia") << QByteArray(R"({"robot_defaults": {"right": {"rotor_inertia": 11}}})")
+                                   << "robot_defaults.right.rotor_inertia: must be between 0 and 10 kg m²";
+    QTest::newRow("motor friction") << QByteArray(R"({"robot_defaults": {"left": {"friction": 1e9}}})")
+                                    << "robot_defaults.left.friction: must be between 0 and 100 N m s/rad";
+    QTest::newRow("ball radius") << QByteArray(R"({"ball": {"radius": 0}})")
+                                 << "ball.radius: must be between 1e-05 and 10 m (got 0)";
+    QTest::newRow("field") << QByteArray(R"({"field": {"length": 1e9}})")
+                           << "field.length: must be between 0.001 and 100 m (got 1e+09)";
+    QTest::newRow("dt tiny") << QByteArray(R"({"simulation": {"dt": 1e-300}})")
+                             << "simulation.dt: must be between 1e-06 and 0.1 s (got 1e-300)";
+    // A field smaller than a body: said so, not "|x| must be <= -0.0125 m".
+    QTest::newRow("field smaller than a robot")
+        << QByteArray(R"({"field": {"length": 0.05, "width": 1}, "robots": [{}]})")
+        << "robots[0]: the field (0.05 m x 1 m) is smaller than the robot, which is 0.075 m across";
+    QTest::newRow("field smaller than a turned robot")
+        << QByteArray(R"({"field": {"length": 1, "width": 0.1}, "robots": [{"theta": 0.7853981633974483}]})")
+        << "robots[0]: the field (1 m x 0.1 m) is smaller than the robot, which is 0.1060660172 m across at "
+           "heading 0.785398 rad";
+    QTest::newRow("field smaller than the ball") << QByteArray(R"({"field": {"length": 0.04, "width": 1}})")
+                                                 << "ball: the field (0.04 m x 1 m) is smaller than the ball, which "
+                                                    "is 0.0427 m across";
 }
 
 void TestSceneIo::badInput() {
@@ -219,6 +296,125 @@ void TestSceneIo::badInput() {
     const std::optional<Scene> scene = parseScene(json, &error);
     QVERIFY(!scene);
     QVERIFY2(error.startsWith(message), qPrintable("got: " + error));
+}
+
+void TestSceneIo::rangesAcceptTheirEnds() {
+    // The ends of the documented ranges are allowed (docs/scenes.md).
+    const Scene s = parseOk(R"({"field": {"length": 100, "width": 100},
+        "simulation": {"dt": 1e-6},
+        "robot_defaults": {"mass": 1000, "side": 1, "inertia": 1e-9, "max_voltage": 1000, "friction_linear": 1000,
+                           "right": {"resistance": 0.001, "k": 100, "rotor_inertia": 10}},
+        "ball": {"vx": 12, "vy": -16, "mass": 1e-4, "radius": 1e-5, "friction": 1000},
+        "robots": [{"x": 2, "v": -10, "omega": 100}]})");
+    QCOMPARE(s.simulation.dt, 1e-6);
+    QCOMPARE(s.robots[0].params.mass, 1000.0);
+    QCOMPARE(s.robots[0].initial.v, -10.0);
+    QCOMPARE(s.ball.vy, -16.0);  // |(12, -16)| = 20 m/s exactly
+}
+
+void TestSceneIo::bodiesMustFit() {
+    // 10,000 robots on the default field (56 m² of robots on 1.95 m²) ended
+    // metres outside the walls; bodies covering more than half of the field
+    // are refused, at most half is accepted.
+    auto crowd = [](int robots, double side) {
+        QByteArray json = QStringLiteral(R"({"robot_defaults": {"side": %1}, "robots": [)").arg(side).toUtf8();
+        for (int i = 0; i < robots; ++i) json += i ? ",{}" : "{}";
+        return json + "]}";
+    };
+    QString error;
+    QVERIFY(!parseScene(crowd(10000, 0.075), &error));
+    QCOMPARE(error, QString("robots: the ball and 10000 robots cover 56.25 m², more than 50% of the field's 1.95 m²: "
+                            "they cannot all fit (use a larger field, or fewer or smaller robots)"));
+    // 0.5 * 1.95 m² less the ball's disc holds 173 default robots (0.005625 m² each), not 174.
+    QVERIFY2(parseScene(crowd(173, 0.075), &error), qPrintable(error));
+    QVERIFY(!parseScene(crowd(174, 0.075), &error));
+    QVERIFY2(error.startsWith("robots: the ball and 174 robots cover 0.98"), qPrintable(error));
+    QVERIFY(!parseScene(R"({"field": {"length": 0.05, "width": 0.05}, "ball": {"radius": 0.02}})", &error));
+    QVERIFY2(error.startsWith("ball: the ball and 0 robots cover"), qPrintable(error));
+}
+
+void TestSceneIo::aCrowdAtTheLimitStaysInside() {
+    // What the limit buys: 173 robots (just under half the field) dropped on
+    // top of each other at random, driving, stay inside the walls for 1 s.
+    std::uint32_t seed = 12345;
+    auto uniform = [&](double lo, double hi) {
+        seed = seed * 1664525u + 1013904223u;  // a fixed LCG: the same crowd every run
+        return lo + (hi - lo) * (seed >> 8) / double(1u << 24);
+    };
+    QByteArray json = R"({"robots": [)";
+    for (int i = 0; i < 173; ++i)
+        json += QStringLiteral(R"(%1{"name": "r%2", "x": %3, "y": %4, "theta": %5, "v": %6})")
+                    .arg(i ? "," : "")
+                    .arg(i)
+                    .arg(uniform(-0.6, 0.6))
+                    .arg(uniform(-0.5, 0.5))
+                    .arg(uniform(-3.0, 3.0))
+                    .arg(uniform(-2.0, 2.0))
+                    .toUtf8();
+    json += R"(], "commands": [)";
+    for (int i = 0; i < 173; ++i)
+        json += QStringLiteral(R"(%1{"robot": "r%2", "right": 7, "left": %3})")
+                    .arg(i ? "," : "")
+                    .arg(i)
+                    .arg(uniform(-7, 7))
+                    .toUtf8();
+    json += "]}";
+    const Scene scene = parseOk(json);
+    Simulation sim(scene);
+    const double hx = 0.75, hy = 0.65, slack = 1e-9;  // m
+    while (sim.state().step < 1000) {
+        sim.advanceTo(sim.state().step + 10);
+        const WorldState& s = sim.state();
+        for (const RobotState& r : s.robots) {
+            const double half = 0.0375 * (std::abs(std::cos(r.theta)) + std::abs(std::sin(r.theta)));
+            QVERIFY2(std::abs(r.x) + half <= hx + slack && std::abs(r.y) + half <= hy + slack,
+                     qPrintable(QString("robot at (%1, %2) at t = %3 s").arg(r.x).arg(r.y).arg(s.time)));
+        }
+        QVERIFY(std::abs(s.ball.x) + 0.02135 <= hx + slack && std::abs(s.ball.y) + 0.02135 <= hy + slack);
+    }
+}
+
+void TestSceneIo::surrogatePairNameIsKept() {
+    // A valid pair (U+1F600) is a fine name: it reaches the CSV as UTF-8 and commands find it.
+    const Scene s = parseOk(R"({"robots": [{"name": "\ud83d\ude00"}], "commands": [{"robot": "\ud83d\ude00"}]})");
+    QCOMPARE(s.robots[0].name, std::string("\xF0\x9F\x98\x80"));
+    QCOMPARE(s.commands[0].robot, 0);
+}
+
+void TestSceneIo::commandsFindTheirRobotsInALargeScene() {
+    // 5,000 robots and 20 commands each, listed in an order unrelated to the
+    // robots': each command must land on its own robot (the reader looks
+    // names up in a hash, linear in robots + commands; a scan per command
+    // took 17.7 s for 5,000 robots and 100,000 commands).
+    const int robots = 5000, perRobot = 20;
+    QByteArray json = R"({"field": {"length": 100, "width": 100}, "robots": [)";
+    for (int i = 0; i < robots; ++i)
+        json += QStringLiteral(R"(%1{"name": "r%2", "x": %3, "y": %4})")
+                    .arg(i ? "," : "")
+                    .arg(i)
+                    .arg(-45.0 + 0.5 * (i % 100))
+                    .arg(-45.0 + 0.5 * (i / 100))
+                    .toUtf8();
+    json += R"(], "commands": [)";
+    for (int k = 0; k < robots * perRobot; ++k) {
+        const int robot = (k * 7919) % robots;  // 7919 is prime: every robot, out of order
+        json += QStringLiteral(R"(%1{"t": %2, "robot": "r%3", "right": %4})")
+                    .arg(k ? "," : "")
+                    .arg(k * 1e-3)
+                    .arg(robot)
+                    .arg(robot % 7)
+                    .toUtf8();
+    }
+    json += "]}";
+    const Scene s = parseOk(json);
+    QCOMPARE(s.robots.size(), std::size_t(robots));
+    QCOMPARE(s.commands.size(), std::size_t(robots * perRobot));
+    for (int k = 0; k < robots * perRobot; ++k) {
+        const int robot = (k * 7919) % robots;
+        QCOMPARE(s.commands[k].robot, robot);
+        QCOMPARE(s.commands[k].voltages.right, double(robot % 7));
+    }
+    QCOMPARE(s.robots[4321].name, std::string("r4321"));
 }
 
 void TestSceneIo::unreadableFile() {

@@ -1,5 +1,7 @@
 #include "vssim/world_model.h"
 
+#include <cmath>
+
 #include "vssim/broad_phase.h"
 
 namespace vssim {
@@ -24,6 +26,21 @@ WorldState initialWorldState(const Scene& scene) {
         s.voltages.push_back({});
     }
     return s;
+}
+
+int firstNonFiniteBody(const WorldState& state) {
+    auto finite = [](std::initializer_list<double> values) {
+        for (double v : values)
+            if (!std::isfinite(v)) return false;
+        return true;
+    };
+    const int robots = static_cast<int>(state.robots.size());
+    for (int i = 0; i < robots; ++i) {
+        const RobotState& r = state.robots[i];
+        if (!finite({r.x, r.y, r.theta, r.v, r.omega})) return i;
+    }
+    const BallState& b = state.ball;
+    return finite({b.x, b.y, b.vx, b.vy}) ? -1 : robots;
 }
 
 bool useBroadPhase(const WorldModel& model, const WorldState& state) {

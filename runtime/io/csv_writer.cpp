@@ -5,7 +5,7 @@
 
 namespace vssim {
 
-CsvWriter::CsvWriter(QIODevice* device) : device_(device) { buffer_.reserve(1 << 16); }
+CsvWriter::CsvWriter(OutputFile& out) : out_(out) { buffer_.reserve(1 << 16); }
 
 void CsvWriter::writeHeader() {
     buffer_ += "t,body,x,y,theta,v,omega,e_right,e_left,omega_right,omega_left,i_right,i_left\n";
@@ -53,7 +53,7 @@ bool CsvWriter::finish() {
 
 void CsvWriter::flush(bool force) {
     if (!force && buffer_.size() < (1 << 15)) return;
-    ok_ = ok_ && device_->write(buffer_) == buffer_.size();
+    ok_ = ok_ && out_.write(buffer_);
     buffer_.clear();
 }
 

@@ -2,8 +2,8 @@
 #pragma once
 
 #include <QByteArray>
-#include <QIODevice>
 
+#include "io/output_file.h"
 #include "vssim/world.h"
 
 namespace vssim {
@@ -14,17 +14,19 @@ namespace vssim {
 // are empty. Numbers are printed with 17 significant digits (round-trip).
 class CsvWriter {
 public:
-    explicit CsvWriter(QIODevice* device);
+    explicit CsvWriter(OutputFile& out);
     void writeHeader();
     void writeSample(const Simulation& simulation);
-    // Writes what is buffered; false if any write failed.
+    // Writes what is buffered; false if any write failed (out.error() says why).
     bool finish();
+    // False once a write has failed: nothing more gets through.
+    bool ok() const { return ok_; }
 
 private:
     void appendNumber(double value);
     void flush(bool force);
 
-    QIODevice* device_;
+    OutputFile& out_;
     QByteArray buffer_;
     bool ok_ = true;
 };

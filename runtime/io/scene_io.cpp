@@ -1,21 +1,27 @@
 #include "io/scene_io.h"
 
+#include <sys/stat.h>
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
+#include <QHash>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
-#include <QSet>
 #include <QStringList>
 #include <cmath>
 #include <map>
+
+#include "io/printable_text.h"
 
 namespace vssim {
 
 namespace {
 
-constexpr double kMaxCommandTime = 1e9;  // s (about 32 years): beyond it step indices lose meaning
+constexpr int kShownCharacters = 40;  // of a name or key quoted in a message; longer ones are cut
+
+// A name or key from the file as a message may quote it: no control characters, at most kShownCharacters.
+QString shown(const QString& text) { return printableText(text, kShownCharacters); }
 
 // Name <-> value tables, one place each.
 const std::pair<const char*, Integrator> kIntegrators[] = {
@@ -45,7 +51,14 @@ QString choices(const std::pair<const char*, T> (&table)[N]) {
     return names.join(", ");
 }
 
-enum class Range { Any, Positive, NonNegative, UnitInterval };
+using namespace scene_limits;
+
+// "between 0.01 and 100 kg", "> 0 and <= 1000 V", "between 0 and 1".
+QString rangeText(const AllowedRange& r) {
+    const QString unit = *r.unit ? QStringLiteral(" ") + QString::fromUtf8(r.unit) : QString();
+    if (r.aboveMin) return QStringLiteral("> %1 and <= %2%3").arg(r.min).arg(r.max).arg(unit);
+    return QStringLiteral("between %1 and %2%3").arg(r.min).arg(r.max).arg(unit);
+}
 
 // Reads JSON into a Scene, keeping the key path of what it reads so that
 // every error says where it is. The first error stops the reading.
@@ -63,7 +76,7 @@ private:
 
     bool object(const QJsonValue& value, const QString& path, QJsonObject* out);
     bool keys(const QJsonObject& o, const QString& path, std::initializer_list<const char*> allowed);
-    bool number(const QJsonObject& o, const QString& path, const char* key, Range range, double* out);
+    bool number(const QJsonObject& o, const QString& path, const char* key, const AllowedRange& range, double* out);
     bool string(const QJsonObject& o, const QString& path, const char* key, QString* out);
     template <typename T, std::size_t N>
     bool choice(const QJsonObject& o, const QString& path, const char* key, const std::pair<const char*, T> (&table)[N],
@@ -77,8 +90,10 @@ private:
     bool robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene);
     bool commands(const QJsonObject& root, Scene& scene);
     bool insideField(const Scene& scene);
+    bool bodiesFit(const Scene& scene);
 
     QString error_;
+    QHash<QString, int> robotIndex_;  // robot name -> index in Scene::robots, for the commands
 };
 
 bool SceneReader::object(const QJsonValue& value, const QString& path, QJsonObject* out) {
@@ -94,31 +109,22 @@ bool SceneReader::keys(const QJsonObject& o, const QString& path, std::initializ
         if (known) continue;
         QStringList names;
         for (const char* key : allowed) names << key;
-        return fail(join(path, it.key()), QStringLiteral("unknown key (expected one of: %1)").arg(names.join(", ")));
+        return fail(join(path, shown(it.key())),
+                    QStringLiteral("unknown key (expected one of: %1)").arg(names.join(", ")));
     }
     return true;
 }
 
-bool SceneReader::number(const QJsonObject& o, const QString& path, const char* key, Range range, double* out) {
+bool SceneReader::number(const QJsonObject& o, const QString& path, const char* key, const AllowedRange& range,
+                         double* out) {
     if (!o.contains(QLatin1String(key))) return true;  // keep the default
     const QString where = join(path, key);
     const QJsonValue value = o.value(QLatin1String(key));
     if (!value.isDouble()) return fail(where, QStringLiteral("expected a number"));
     const double x = value.toDouble();
     if (!std::isfinite(x)) return fail(where, QStringLiteral("must be a finite number"));
-    const QString got = QStringLiteral(" (got %1)").arg(x);
-    switch (range) {
-        case Range::Positive:
-            if (!(x > 0.0)) return fail(where, QStringLiteral("must be > 0") + got);
-            break;
-        case Range::NonNegative:
-            if (!(x >= 0.0)) return fail(where, QStringLiteral("must be >= 0") + got);
-            break;
-        case Range::UnitInterval:
-            if (!(x >= 0.0 && x <= 1.0)) return fail(where, QStringLiteral("must be between 0 and 1") + got);
-            break;
-        case Range::Any: break;
-    }
+    if (x < range.min || (range.aboveMin && x == range.min) || x > range.max)
+        return fail(where, QStringLiteral("must be %1 (got %2)").arg(rangeText(range)).arg(x));
     *out = x;
     return true;
 }
@@ -139,7 +145,8 @@ bool SceneReader::choice(const QJsonObject& o, const QString& path, const char* 
     if (!string(o, path, key, &name)) return false;
     const std::optional<T> value = valueOf(table, name);
     if (!value)
-        return fail(join(path, key), QStringLiteral("expected one of %1 (got \"%2\")").arg(choices(table), name));
+        return fail(join(path, key),
+                    QStringLiteral("expected one of %1 (got \"%2\")").arg(choices(table), shown(name)));
     *out = *value;
     return true;
 }
@@ -149,8 +156,7 @@ bool SceneReader::field(const QJsonObject& root, Scene& scene) {
     QJsonObject o;
     double length = scene.field.length, width = scene.field.width;
     if (!object(root.value("field"), "field", &o) || !keys(o, "field", {"length", "width"}) ||
-        !number(o, "field", "length", Range::Positive, &length) ||
-        !number(o, "field", "width", Range::Positive, &width))
+        !number(o, "field", "length", kFieldSize, &length) || !number(o, "field", "width", kFieldSize, &width))
         return false;
     scene.field = makeRectangularField(length, width);
     return true;
@@ -162,34 +168,31 @@ bool SceneReader::simulation(const QJsonObject& root, Scene& scene) {
     SimulationSettings& s = scene.simulation;
     const QString path = "simulation";
     if (!object(root.value(path), path, &o) || !keys(o, path, {"integrator", "dt", "collision_model", "restitution"}) ||
-        !choice(o, path, "integrator", kIntegrators, &s.integrator) || !number(o, path, "dt", Range::Positive, &s.dt) ||
+        !choice(o, path, "integrator", kIntegrators, &s.integrator) || !number(o, path, "dt", kTimeStep, &s.dt) ||
         !choice(o, path, "collision_model", kCollisionModels, &s.collision_model) ||
-        !number(o, path, "restitution", Range::UnitInterval, &s.restitution))
+        !number(o, path, "restitution", kUnitInterval, &s.restitution))
         return false;
-    if (s.dt > kMaxSceneTimeStep)
-        return fail(join(path, "dt"), QStringLiteral("must be <= %1 s (got %2)").arg(kMaxSceneTimeStep).arg(s.dt));
     return true;
 }
 
 bool SceneReader::motor(const QJsonObject& o, const QString& path, MotorParams& p) {
     return keys(o, path, {"wheel_radius", "resistance", "k", "rotor_inertia", "friction"}) &&
-           number(o, path, "wheel_radius", Range::Positive, &p.wheel_radius) &&
-           number(o, path, "resistance", Range::Positive, &p.resistance) &&
-           number(o, path, "k", Range::Positive, &p.k) &&
-           number(o, path, "rotor_inertia", Range::NonNegative, &p.rotor_inertia) &&
-           number(o, path, "friction", Range::NonNegative, &p.friction);
+           number(o, path, "wheel_radius", kWheelRadius, &p.wheel_radius) &&
+           number(o, path, "resistance", kResistance, &p.resistance) && number(o, path, "k", kMotorConstant, &p.k) &&
+           number(o, path, "rotor_inertia", kRotorInertia, &p.rotor_inertia) &&
+           number(o, path, "friction", kMotorFriction, &p.friction);
 }
 
 bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotParams& p, bool* inertiaGiven) {
     if (!keys(o, path,
               {"side", "mass", "inertia", "wheel_base", "friction_linear", "friction_angular", "max_voltage", "right",
                "left"}) ||
-        !number(o, path, "side", Range::Positive, &p.side) || !number(o, path, "mass", Range::Positive, &p.mass) ||
-        !number(o, path, "inertia", Range::Positive, &p.inertia) ||
-        !number(o, path, "wheel_base", Range::Positive, &p.wheel_base) ||
-        !number(o, path, "friction_linear", Range::NonNegative, &p.friction_linear) ||
-        !number(o, path, "friction_angular", Range::NonNegative, &p.friction_angular) ||
-        !number(o, path, "max_voltage", Range::Positive, &p.max_voltage))
+        !number(o, path, "side", kRobotSide, &p.side) || !number(o, path, "mass", kRobotMass, &p.mass) ||
+        !number(o, path, "inertia", kRobotInertia, &p.inertia) ||
+        !number(o, path, "wheel_base", kWheelBase, &p.wheel_base) ||
+        !number(o, path, "friction_linear", kLinearFriction, &p.friction_linear) ||
+        !number(o, path, "friction_angular", kAngularFriction, &p.friction_angular) ||
+        !number(o, path, "max_voltage", kMaxVoltage, &p.max_voltage))
         return false;
     *inertiaGiven = *inertiaGiven || o.contains("inertia");
     for (const auto& [key, motorParams] :
@@ -207,13 +210,18 @@ bool SceneReader::ball(const QJsonObject& root, Scene& scene) {
     QJsonObject o;
     BallState& b = scene.ball;
     BallParams& p = scene.ball_params;
-    return object(root.value("ball"), "ball", &o) &&
-           keys(o, "ball", {"x", "y", "vx", "vy", "mass", "radius", "friction"}) &&
-           number(o, "ball", "x", Range::Any, &b.x) && number(o, "ball", "y", Range::Any, &b.y) &&
-           number(o, "ball", "vx", Range::Any, &b.vx) && number(o, "ball", "vy", Range::Any, &b.vy) &&
-           number(o, "ball", "mass", Range::Positive, &p.mass) &&
-           number(o, "ball", "radius", Range::Positive, &p.radius) &&
-           number(o, "ball", "friction", Range::NonNegative, &p.friction);
+    if (!object(root.value("ball"), "ball", &o) ||
+        !keys(o, "ball", {"x", "y", "vx", "vy", "mass", "radius", "friction"}) || !number(o, "ball", "x", kAny, &b.x) ||
+        !number(o, "ball", "y", kAny, &b.y) || !number(o, "ball", "vx", kBallVelocity, &b.vx) ||
+        !number(o, "ball", "vy", kBallVelocity, &b.vy) || !number(o, "ball", "mass", kBallMass, &p.mass) ||
+        !number(o, "ball", "radius", kBallRadius, &p.radius) ||
+        !number(o, "ball", "friction", kBallFriction, &p.friction))
+        return false;
+    const double speed = std::hypot(b.vx, b.vy);  // m/s
+    if (speed > kMaxBallSpeed)
+        return fail("ball",
+                    QStringLiteral("the speed |(vx, vy)| must be <= %1 m/s (got %2)").arg(kMaxBallSpeed).arg(speed));
+    return true;
 }
 
 bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene) {
@@ -221,7 +229,6 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
     if (!root.value("robots").isArray()) return fail("robots", QStringLiteral("expected an array"));
     const QJsonArray list = root.value("robots").toArray();
     std::map<Team, int> perTeam;
-    QSet<QString> names;
     for (int i = 0; i < list.size(); ++i) {
         const QString path = QStringLiteral("robots[%1]").arg(i);
         QJsonObject o;
@@ -232,9 +239,9 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
         QString name;
         RobotState& s = r.initial;
         if (!string(o, path, "name", &name) || !choice(o, path, "team", kTeams, &r.team) ||
-            !number(o, path, "x", Range::Any, &s.x) || !number(o, path, "y", Range::Any, &s.y) ||
-            !number(o, path, "theta", Range::Any, &s.theta) || !number(o, path, "v", Range::Any, &s.v) ||
-            !number(o, path, "omega", Range::Any, &s.omega))
+            !number(o, path, "x", kAny, &s.x) || !number(o, path, "y", kAny, &s.y) ||
+            !number(o, path, "theta", kAny, &s.theta) || !number(o, path, "v", kRobotSpeed, &s.v) ||
+            !number(o, path, "omega", kRobotYawRate, &s.omega))
             return false;
         bool ownInertia = inertiaGiven;
         if (o.contains("params")) {
@@ -247,17 +254,25 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
         const int indexInTeam = perTeam[r.team]++;
         if (!o.contains("name")) name = teamName(r.team) + QString::number(indexInTeam);
         if (name.isEmpty()) return fail(join(path, "name"), QStringLiteral("must not be empty"));
-        // Names are written unquoted in CSV rows, where "ball" names the ball.
+        // Names are written unquoted in CSV rows (UTF-8), where "ball" names the ball.
         for (const QChar ch : name)
             if (ch == ',' || ch == '"' || ch.category() == QChar::Other_Control)
                 return fail(
                     join(path, "name"),
                     QStringLiteral("\"%1\" may not contain commas, quotes or control characters (it names CSV rows)")
-                        .arg(name));
+                        .arg(shown(name)));
+        // A lone UTF-16 surrogate (JSON "\ud800") has no UTF-8 form: it would
+        // become "?", and two such names the same CSV name. Valid Unicode
+        // converts one to one, so distinct names stay distinct in the CSV.
+        if (!name.isValidUtf16())
+            return fail(join(path, "name"),
+                        QStringLiteral("\"%1\" is not valid Unicode (it holds a lone UTF-16 surrogate such as \\ud800)")
+                            .arg(shown(name)));
         if (name == QLatin1String("ball"))
             return fail(join(path, "name"), QStringLiteral("\"ball\" is reserved for the ball"));
-        if (names.contains(name)) return fail(join(path, "name"), QStringLiteral("duplicate name \"%1\"").arg(name));
-        names.insert(name);
+        if (robotIndex_.contains(name))
+            return fail(join(path, "name"), QStringLiteral("duplicate name \"%1\"").arg(shown(name)));
+        robotIndex_.insert(name, static_cast<int>(scene.robots.size()));
         r.name = name.toStdString();
         scene.robots.push_back(r);
     }
@@ -274,17 +289,12 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
         VoltageCommand c;
         QString robot;
         if (!object(list[i], path, &o) || !keys(o, path, {"t", "robot", "right", "left"}) ||
-            !number(o, path, "t", Range::NonNegative, &c.t) || !string(o, path, "robot", &robot) ||
-            !number(o, path, "right", Range::Any, &c.voltages.right) ||
-            !number(o, path, "left", Range::Any, &c.voltages.left))
+            !number(o, path, "t", kCommandTime, &c.t) || !string(o, path, "robot", &robot) ||
+            !number(o, path, "right", kAny, &c.voltages.right) || !number(o, path, "left", kAny, &c.voltages.left))
             return false;
         if (!o.contains("robot")) return fail(join(path, "robot"), QStringLiteral("missing (the name of a robot)"));
-        if (c.t > kMaxCommandTime)
-            return fail(join(path, "t"), QStringLiteral("must be <= %1 s (got %2)").arg(kMaxCommandTime).arg(c.t));
-        c.robot = -1;
-        for (int r = 0; r < static_cast<int>(scene.robots.size()); ++r)
-            if (QString::fromStdString(scene.robots[r].name) == robot) c.robot = r;
-        if (c.robot < 0) return fail(join(path, "robot"), QStringLiteral("no robot named \"%1\"").arg(robot));
+        c.robot = robotIndex_.value(robot, -1);  // a hash look-up: loading stays linear in robots + commands
+        if (c.robot < 0) return fail(join(path, "robot"), QStringLiteral("no robot named \"%1\"").arg(shown(robot)));
         scene.commands.push_back(c);
     }
     return true;
@@ -294,6 +304,16 @@ bool SceneReader::insideField(const Scene& scene) {
     const double hx = scene.field.length / 2, hy = scene.field.width / 2;
     // half: the body's half-extent along x and along y, m.
     auto check = [&](const QString& path, double x, double y, double half, const QString& note) {
+        if (half > hx || half > hy) {
+            const QString body =
+                path == QLatin1String("ball") ? QStringLiteral("the ball") : QStringLiteral("the robot");
+            return fail(path, QStringLiteral("the field (%1 m x %2 m) is smaller than %3, which is %4 m across%5")
+                                  .arg(scene.field.length, 0, 'g', 10)
+                                  .arg(scene.field.width, 0, 'g', 10)
+                                  .arg(body)
+                                  .arg(2 * half, 0, 'g', 10)
+                                  .arg(note));
+        }
         const QString what = QStringLiteral("%1 m is outside the field (|%2| must be <= %3 m%4)");
         if (std::abs(x) > hx - half)
             return fail(join(path, "x"), what.arg(x, 0, 'g', 10).arg('x').arg(hx - half, 0, 'g', 10).arg(note));
@@ -316,12 +336,28 @@ bool SceneReader::insideField(const Scene& scene) {
     return true;
 }
 
+bool SceneReader::bodiesFit(const Scene& scene) {
+    const double kPi = 3.14159265358979323846;
+    double covered = kPi * scene.ball_params.radius * scene.ball_params.radius;  // m²
+    for (const RobotSpec& robot : scene.robots) covered += robot.params.side * robot.params.side;
+    const double area = scene.field.length * scene.field.width;  // m²
+    if (covered <= kMaxCoveredFraction * area) return true;
+    return fail(scene.robots.empty() ? QStringLiteral("ball") : QStringLiteral("robots"),
+                QStringLiteral("the ball and %1 robot%2 cover %3 m², more than %4% of the field's %5 m²: they cannot "
+                               "all fit (use a larger field, or fewer or smaller robots)")
+                    .arg(scene.robots.size())
+                    .arg(scene.robots.size() == 1 ? "" : "s")
+                    .arg(covered, 0, 'g', 4)
+                    .arg(100 * kMaxCoveredFraction)
+                    .arg(area, 0, 'g', 4));
+}
+
 std::optional<Scene> SceneReader::read(const QJsonObject& root) {
     Scene scene;
     if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands"}))
         return std::nullopt;
     double version = 1.0;
-    if (!number(root, "", "version", Range::Any, &version)) return std::nullopt;
+    if (!number(root, "", "version", kAny, &version)) return std::nullopt;
     if (version != 1.0) {
         fail("version", QStringLiteral("unsupported version %1 (this vssim reads version 1)").arg(version));
         return std::nullopt;
@@ -335,7 +371,8 @@ std::optional<Scene> SceneReader::read(const QJsonObject& root) {
             return std::nullopt;
     }
     if (!field(root, scene) || !simulation(root, scene) || !ball(root, scene) ||
-        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !insideField(scene))
+        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !insideField(scene) ||
+        !bodiesFit(scene))
         return std::nullopt;
     return scene;
 }
@@ -463,6 +500,24 @@ QString resolveScenePath(const QString& argument) {
          {QStringLiteral(":/scenes/%1").arg(argument), QStringLiteral(":/scenes/%1.json").arg(argument)})
         if (!argument.contains('/') && QFileInfo(candidate).isFile()) return candidate;
     return {};
+}
+
+QString sceneNotFoundMessage(const QString& argument) {
+    struct stat st;
+    QString what;
+    if (::stat(QFile::encodeName(argument).constData(), &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            what = QStringLiteral("a directory");
+        else if (S_ISFIFO(st.st_mode))
+            what = QStringLiteral("a FIFO (named pipe)");
+        else if (S_ISSOCK(st.st_mode))
+            what = QStringLiteral("a socket");
+        else if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))
+            what = QStringLiteral("a device");
+    }
+    if (!what.isEmpty()) return QStringLiteral("%1: is %2, not a scene file (a regular JSON file)").arg(argument, what);
+    return QStringLiteral("%1: no such file or built-in scene (built-in: %2)")
+        .arg(argument, builtinSceneNames().join(", "));
 }
 
 }  // namespace vssim

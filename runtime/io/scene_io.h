@@ -7,12 +7,10 @@
 #include <QStringList>
 #include <optional>
 
+#include "io/scene_limits.h"
 #include "vssim/scene.h"
 
 namespace vssim {
-
-// The longest integration step a scene (simulation.dt) or `--dt` may ask for, s.
-constexpr double kMaxSceneTimeStep = 0.1;
 
 // Parses a scene. On failure returns nullopt and sets *error to a message
 // that names where, e.g. "robots[2].params.right.resistance: expected a number".
@@ -37,6 +35,12 @@ QString teamName(Team team);
 // example scene ("kickoff_3v3" or "kickoff_3v3.json", compiled in as a Qt
 // resource). Returns an empty string when neither exists.
 QString resolveScenePath(const QString& argument);
+
+// Why resolveScenePath(argument) found nothing, as "ARGUMENT: what it is":
+// a directory, a FIFO, a device or a socket is named as such (a scene is read
+// from a regular file), anything else is "no such file or built-in scene"
+// with the built-in names.
+QString sceneNotFoundMessage(const QString& argument);
 
 // Names of the built-in example scenes, sorted.
 QStringList builtinSceneNames();

@@ -10,16 +10,12 @@
 #include <utility>
 #include <vector>
 
+#include "io/printable_text.h"
 #include "realtime/engine_request.h"
 #include "vssim/scene.h"
 #include "wire/frame_packet.h"
 
 namespace vssim {
-
-// `text` with every character that is not printable (newlines, ESC, other
-// control characters) as "?", and cut to `maxCharacters` characters
-// (code points) with "..." after: safe for log lines and error messages.
-QString printableText(const QString& text, int maxCharacters);
 
 struct RequestError {
     QString code;     // e.g. "malformed", "bad_robot"

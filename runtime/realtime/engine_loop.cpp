@@ -53,7 +53,7 @@ std::int64_t EngineLoop::stepAt(std::int64_t nowNs) const {
 }
 
 std::int64_t EngineLoop::nextWakeNs() const {
-    if (paused_ || mode_ == RunMode::Lockstep) return std::numeric_limits<std::int64_t>::max();
+    if (paused_ || fault_ || mode_ == RunMode::Lockstep) return std::numeric_limits<std::int64_t>::max();
     if (mode_ == RunMode::Max) return 0;
     const double wakeNs = static_cast<double>(anchorNs_) +
                           std::ceil(static_cast<double>(nextFrameStep_ - anchorStep_) * sim_->dt() / speed_ * 1e9);
@@ -64,14 +64,30 @@ std::int64_t EngineLoop::nextWakeNs() const {
 
 void EngineLoop::emitInstant(std::int64_t nowNs) { sink_.cameraInstant(*sim_, frame_, nowNs); }
 
-void EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
+bool EngineLoop::halt(std::int64_t nowNs) {
+    if (fault_) return true;
+    fault_ = findSimulationFault(*sim_);
+    if (!fault_) return false;
+    if (mode_ != RunMode::Lockstep) paused_ = true;
+    sink_.halted(*fault_, nowNs);
+    return true;
+}
+
+bool EngineLoop::stillHalted() {
+    if (fault_) fault_ = findSimulationFault(*sim_);
+    return fault_.has_value();
+}
+
+bool EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
     while (nextFrameStep_ <= target) {
         sim_->advanceTo(nextFrameStep_);
+        if (halt(nowNs)) return false;  // no camera instant of a non-finite state
         ++frame_;
         nextFrameStep_ += frameSteps_;
         emitInstant(nowNs);
     }
     sim_->advanceTo(target);
+    return !halt(nowNs);
 }
 
 bool EngineLoop::catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps) {
@@ -91,7 +107,7 @@ bool EngineLoop::catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t b
 }
 
 void EngineLoop::runUntil(std::int64_t nowNs) {
-    if (paused_ || mode_ == RunMode::Lockstep) return;
+    if (paused_ || fault_ || mode_ == RunMode::Lockstep) return;
     if (mode_ == RunMode::Max) {
         advanceTo(nextFrameStep_, nowNs);
         return;
@@ -103,6 +119,7 @@ void EngineLoop::runUntil(std::int64_t nowNs) {
 
 void EngineLoop::restart(std::int64_t arrivalNs, std::int64_t nowNs) {
     sim_ = std::make_unique<Simulation>(scene_);
+    fault_.reset();  // the scene's own state is finite (the scene reader's ranges)
     restartClock(arrivalNs, nowNs);
 }
 
@@ -174,11 +191,13 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 sim_->setVoltages(static_cast<int>(i), before.voltages[i]);
             }
             sim_->placeBall(before.ball);
+            stillHalted();  // the same state: still non-finite, or mended by placements
             restartClock(r.arrivalNs, nowNs);
             break;
         }
         case Kind::Pause: paused_ = true; break;
         case Kind::Resume:
+            if (stillHalted()) return replyTo(r, "non_finite", haltedMessage());
             if (paused_) {
                 paused_ = false;
                 reanchor(r.arrivalNs);
@@ -187,8 +206,10 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         case Kind::Step: {
             if (!paused_ && mode_ != RunMode::Lockstep)
                 return replyTo(r, "not_paused", "step works only while paused or in lockstep mode");
+            if (stillHalted()) return replyTo(r, "non_finite", haltedMessage());
             const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, sim_->dt());
             sim_->advanceTo(sim_->state().step + steps);
+            if (halt(nowNs)) return replyTo(r, "non_finite", haltedMessage());
             ++frame_;
             nextFrameStep_ = sim_->state().step + frameSteps_;
             emitInstant(nowNs);
@@ -216,6 +237,10 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         }
     }
     replyTo(r);
+}
+
+QString EngineLoop::haltedMessage() const {
+    return QStringLiteral("the simulation halted: %1; reset or load a scene").arg(fault_->message());
 }
 
 void EngineLoop::replyTo(const EngineRequest& r, const QString& error, const QString& message,

@@ -13,6 +13,12 @@
 //   lockstep  time advances only on `step` requests; each ends with a camera
 //             instant. Same scene and same requests: bit-identical results.
 // Paused (realtime or max): time stands still; `step` works as in lockstep.
+// Halted: the state became non-finite (NaN or infinity: an unstable step,
+// extreme parameters). The loop stops there, before the camera instant that
+// would show it, tells the sink once (EngineSink::halted) and pauses
+// (realtime, max); until a reset or a new scene, or placements that make the
+// state finite again, `step` and `resume` are refused with error
+// "non_finite" and time stands still.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +27,7 @@
 
 #include "realtime/engine_request.h"
 #include "realtime/sample_stats.h"
+#include "realtime/simulation_fault.h"
 #include "vssim/scene.h"
 #include "vssim/world.h"
 
@@ -45,6 +52,12 @@ public:
     // A camera instant: the simulation is exactly at frame `frame`'s time.
     virtual void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) = 0;
     virtual void reply(const EngineReply& reply) = 0;
+    // The simulation's state stopped being finite at fault.time: the loop
+    // has halted (see above). Called once per halt; nothing by default.
+    virtual void halted(const SimulationFault& fault, std::int64_t nowNs) {
+        (void)fault;
+        (void)nowNs;
+    }
 };
 
 struct EngineLoopSettings {
@@ -91,6 +104,8 @@ public:
     std::int64_t frameSteps() const { return frameSteps_; }
     RunMode mode() const { return mode_; }
     bool paused() const { return paused_; }
+    // Why the loop halted (see above), or nothing while the state is finite.
+    const std::optional<SimulationFault>& fault() const { return fault_; }
     double speed() const { return speed_; }
     const EngineLoopStats& stats() const { return stats_; }
     // The simulated time (s) that wall time nowNs maps to (realtime, running).
@@ -111,16 +126,23 @@ private:
     std::int64_t anchorNs_ = 0;   // wall time at which the simulation was at anchorStep_
     std::int64_t anchorStep_ = 0;
     EngineLoopStats stats_;
+    std::optional<SimulationFault> fault_;
 
-    bool running() const { return mode_ == RunMode::Realtime && !paused_; }
+    bool running() const { return mode_ == RunMode::Realtime && !paused_ && !fault_; }
+    // Checks the state after an advance: on the first non-finite one, halts
+    // (pauses outside lockstep) and tells the sink. True while halted.
+    bool halt(std::int64_t nowNs);
+    // Whether the loop is still halted, once placements may have mended the state.
+    bool stillHalted();
     // Simulated time restarts from the current step at wall time wallNs.
     void reanchor(std::int64_t wallNs);
     // Realtime: advances towards the step of wall time wallNs, by at most
     // budgetSteps; drops the lag when it exceeds maxLag. False when the
     // simulation is already past that step (the request came late).
     bool catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps);
-    // Advances to step `target`, with a camera instant at each one passed.
-    void advanceTo(std::int64_t target, std::int64_t nowNs);
+    // Advances to step `target`, with a camera instant at each one passed;
+    // stops early (false) when the state becomes non-finite.
+    bool advanceTo(std::int64_t target, std::int64_t nowNs);
     // The first step boundary at or after the simulated instant of nowNs.
     std::int64_t stepAt(std::int64_t nowNs) const;
     void emitInstant(std::int64_t nowNs);
@@ -128,6 +150,7 @@ private:
     void restart(std::int64_t arrivalNs, std::int64_t nowNs);
     // Frame 0 now (emitted), the clock anchored at arrivalNs.
     void restartClock(std::int64_t arrivalNs, std::int64_t nowNs);
+    QString haltedMessage() const;  // for replies while halted
     void replyTo(const EngineRequest& request, const QString& error = {}, const QString& message = {},
                  std::optional<StatsReport> stats = std::nullopt);
 };

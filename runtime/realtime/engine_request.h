@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/scene_limits.h"
 #include "realtime/stats_report.h"
 #include "vssim/ball.h"
 #include "vssim/robot_state.h"
@@ -22,12 +23,10 @@
 namespace vssim {
 
 // Speeds a placed body may start with (PlaceRobot, PlaceBall, from a client
-// or a person): several times what the motors reach (a default robot's top
-// speed is about 1.6 m/s), and no more, since a body far faster would need
-// millions of sub-steps per step.
-constexpr double kMaxPlacedRobotSpeed = 10.0;  // m/s
-constexpr double kMaxPlacedYawRate = 100.0;    // rad/s
-constexpr double kMaxPlacedBallSpeed = 20.0;   // m/s
+// or a person): those a scene file may give (io/scene_limits.h).
+constexpr double kMaxPlacedRobotSpeed = scene_limits::kMaxRobotSpeed;  // m/s
+constexpr double kMaxPlacedYawRate = scene_limits::kMaxYawRate;        // rad/s
+constexpr double kMaxPlacedBallSpeed = scene_limits::kMaxBallSpeed;    // m/s
 // The longest `step` a client may ask for at once, s of simulated time.
 constexpr double kMaxStepDuration = 3600.0;
 

@@ -10,6 +10,7 @@ Snapshot takeSnapshot(const EngineLoop& loop, std::shared_ptr<const Scene> scene
     s.frame = loop.frame();
     s.mode = loop.mode();
     s.paused = loop.paused();
+    s.fault = loop.fault();
     s.speed = loop.speed();
     s.robots = sim.state().robots;
     s.voltages = sim.state().voltages;

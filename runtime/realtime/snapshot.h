@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "realtime/engine_loop.h"
@@ -21,6 +22,9 @@ struct Snapshot {
     std::int64_t frame = 0;  // camera instants since start/reset
     RunMode mode = RunMode::Realtime;
     bool paused = false;
+    // Set when the loop halted on a non-finite state (engine_loop.h): the
+    // bodies' numbers then hold NaN or infinity and are not to be drawn.
+    std::optional<SimulationFault> fault;
     double speed = 1.0;                 // real-time factor (realtime mode)
     std::vector<RobotState> robots;     // m, rad, m/s, rad/s
     std::vector<Voltages> voltages;     // applied, V

@@ -34,6 +34,12 @@ struct WorldState {
 
 WorldState initialWorldState(const Scene& scene);
 
+// The first body whose state holds a NaN or an infinity: robot i as i, the
+// ball as robots.size(); -1 when every number is finite. Such a state cannot
+// be stepped on meaningfully (an unstable step, extreme parameters), so
+// whoever runs the world checks it and stops.
+int firstNonFiniteBody(const WorldState& state);
+
 // Whether contact tests go through the broad phase (broad_phase.h): when the
 // scene allows it and has enough robots for sorting to pay.
 bool useBroadPhase(const WorldModel& model, const WorldState& state);

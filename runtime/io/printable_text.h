@@ -1,0 +1,13 @@
+// Text from outside (scene files, clients) made safe to show in a message.
+#pragma once
+
+#include <QString>
+
+namespace vssim {
+
+// `text` with every character that is not printable (newlines, ESC, other
+// control characters) as "?", and cut to `maxCharacters` characters
+// (code points) with "..." after: safe for log lines and error messages.
+QString printableText(const QString& text, int maxCharacters);
+
+}  // namespace vssim

@@ -1,0 +1,85 @@
+// The ranges a scene file's numbers must lie in (docs/scenes.md, the
+// "allowed" columns). Each is generous -- a factor of 100 or more around what
+// a VSSS robot or ball is (model.md §9), and wide enough for every value the
+// desktop app's scene dialog offers -- and still physical: within them every
+// product the engine forms (rates like friction/mass, K²/R over an inertia)
+// stays a normal, finite double, and a body's initial speed needs at most a
+// few thousand collision sub-steps per step. Outside them a scene is refused
+// rather than run into NaN or an effective hang. (Within them a step can
+// still be beyond an integrator's stability limit: vssim run warns, and stops
+// if the state stops being finite.)
+#pragma once
+
+#include <limits>
+
+namespace vssim {
+
+// A closed interval [min, max], or (min, max] when `aboveMin`.
+struct AllowedRange {
+    double min;
+    double max;
+    bool aboveMin;     // min itself excluded
+    const char* unit;  // for messages: "kg", "m/s"; empty for none
+};
+
+// The integration step a scene (simulation.dt) or `--dt` may ask for, s
+// (default 1 ms): up to 0.1 s, and down to 1 us, which still resolves a motor
+// time constant of a few microseconds.
+constexpr double kMinSceneTimeStep = 1e-6;
+constexpr double kMaxSceneTimeStep = 0.1;
+
+namespace scene_limits {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+constexpr AllowedRange kAny{-kInfinity, kInfinity, false, ""};
+constexpr AllowedRange kUnitInterval{0.0, 1.0, false, ""};
+constexpr AllowedRange kTimeStep{kMinSceneTimeStep, kMaxSceneTimeStep, false, "s"};
+
+// Field (default 1.50 x 1.30 m).
+constexpr AllowedRange kFieldSize{0.001, 100.0, false, "m"};
+
+// Robot (defaults: 7.5 cm, 180 g, 1.7e-4 kg m², wheels 6.5 cm apart).
+constexpr AllowedRange kRobotSide{1e-4, 10.0, false, "m"};
+constexpr AllowedRange kRobotMass{1e-4, 1000.0, false, "kg"};
+constexpr AllowedRange kRobotInertia{1e-9, 100.0, false, "kg m²"};
+constexpr AllowedRange kWheelBase{1e-4, 10.0, false, "m"};
+constexpr AllowedRange kLinearFriction{0.0, 1000.0, false, "N s/m"};
+constexpr AllowedRange kAngularFriction{0.0, 100.0, false, "N m s/rad"};
+constexpr AllowedRange kMaxVoltage{0.0, 1000.0, true, "V"};
+
+// Motor, as seen at the wheel (defaults: 25 mm, 12 ohm, 0.09 V s/rad, 1e-5 kg m², 1e-4 N m s/rad).
+constexpr AllowedRange kWheelRadius{1e-4, 1.0, false, "m"};
+constexpr AllowedRange kResistance{0.001, 1e6, false, "Ω"};
+constexpr AllowedRange kMotorConstant{1e-5, 100.0, false, "V s/rad"};
+constexpr AllowedRange kRotorInertia{0.0, 10.0, false, "kg m²"};
+constexpr AllowedRange kMotorFriction{0.0, 100.0, false, "N m s/rad"};
+
+// Ball (defaults: 46 g, 21.35 mm, 0.02 N s/m).
+constexpr AllowedRange kBallMass{1e-4, 100.0, false, "kg"};
+constexpr AllowedRange kBallRadius{1e-5, 10.0, false, "m"};
+constexpr AllowedRange kBallFriction{0.0, 1000.0, false, "N s/m"};
+
+// Initial speeds: several times what the motors reach (a default robot's top
+// speed is about 1.6 m/s) and what a kick gives a ball; a body far faster
+// would need millions of sub-steps per step. A client or a person placing a
+// body is held to the same (realtime/engine_request.h).
+constexpr double kMaxRobotSpeed = 10.0;  // m/s
+constexpr double kMaxYawRate = 100.0;    // rad/s
+constexpr double kMaxBallSpeed = 20.0;   // m/s, |(vx, vy)|
+constexpr AllowedRange kRobotSpeed{-kMaxRobotSpeed, kMaxRobotSpeed, false, "m/s"};
+constexpr AllowedRange kRobotYawRate{-kMaxYawRate, kMaxYawRate, false, "rad/s"};
+constexpr AllowedRange kBallVelocity{-kMaxBallSpeed, kMaxBallSpeed, false, "m/s"};
+
+// The bodies may cover at most this fraction of the field's area: beyond it
+// the contact passes cannot push them apart, and bodies ended metres outside
+// the walls (10,000 robots on the default field). Random placement packs
+// squares to about 0.55 of a plane, so half the field is already a crowd.
+constexpr double kMaxCoveredFraction = 0.5;
+
+// Command times, s (about 32 years): beyond it step indices lose meaning.
+constexpr AllowedRange kCommandTime{0.0, 1e9, false, "s"};
+
+}  // namespace scene_limits
+
+}  // namespace vssim
