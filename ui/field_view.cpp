@@ -77,7 +77,7 @@ void FieldView::showSnapshot(std::shared_ptr<const Snapshot> snapshot) {
     if (trails_.size() != bodies || snapshot->time < trailTime_) trails_.assign(bodies, {});
     const double elapsed = std::max(0.0, snapshot->time - trailTime_);  // s since the last snapshot
     trailTime_ = snapshot->time;
-    for (std::size_t i = 0; i < bodies; ++i) {
+    for (std::size_t i = 0; i < bodies && !snapshot->fault; ++i) {  // no trail through NaN
         const QPointF p = i + 1 < bodies ? QPointF(snapshot->robots[i].x, snapshot->robots[i].y)
                                          : QPointF(snapshot->ball.x, snapshot->ball.y);
         auto& trail = trails_[i];
@@ -163,6 +163,12 @@ void FieldView::paintGL() {
         fieldCacheScene_ = snapshot_->scene;
     }
     p.drawPixmap(0, 0, fieldCache_);
+    if (snapshot_->fault) {  // the bodies' numbers are NaN or infinite: say why instead
+        p.setPen(QColor(255, 120, 120));
+        p.drawText(rect().adjusted(20, 20, -20, -20), Qt::AlignCenter | Qt::TextWordWrap,
+                   tr("The simulation halted: %1.\nReset, or open a scene.").arg(snapshot_->fault->message()));
+        return;
+    }
     p.setTransform(transform);
     paintBodies(p);
 }

@@ -390,7 +390,7 @@ void MainWindow::buildToolBar() {
     bar->addWidget(integrator_);
     dt_ = new QDoubleSpinBox(bar);
     dt_->setDecimals(6);
-    const SpinInterval dtRange = spinInterval(SceneRange::TimeStep, dt_->decimals(), 0.0);  // as the scene reader
+    const SpinInterval dtRange = spinInterval(scene_limits::kTimeStep, dt_->decimals());  // as the scene reader
     dt_->setRange(dtRange.minimum, dtRange.maximum);
     dt_->setSingleStep(0.0005);
     dt_->setSuffix(" s");
@@ -447,7 +447,7 @@ bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
     QString error;
     std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
     if (!scene) {
-        if (path.isEmpty()) error = tr("no scene file or built-in scene \"%1\"").arg(pathOrName);
+        if (path.isEmpty()) error = sceneNotFoundMessage(pathOrName);
         if (interactive) QMessageBox::warning(this, tr("Open scene"), error);
         return false;
     }

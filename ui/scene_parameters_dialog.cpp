@@ -63,12 +63,12 @@ SceneParametersDialog::SceneParametersDialog(const Scene& scene, QWidget* parent
 }
 
 QDoubleSpinBox* SceneParametersDialog::spinBox(const QString& objectName, const QString& suffix, int decimals,
-                                               SceneRange range, double cap, double value,
+                                               const AllowedRange& range, double value,
                                                const std::function<void(double)>& onEdit) {
     auto* box = new QDoubleSpinBox;
     box->setObjectName(objectName);
     box->setDecimals(decimals);  // before the range, which is rounded to it
-    const SpinInterval interval = spinInterval(range, decimals, cap);
+    const SpinInterval interval = spinInterval(range, decimals);
     box->setRange(interval.minimum, interval.maximum);
     box->setSuffix(suffix);
     box->setStepType(QAbstractSpinBox::AdaptiveDecimalStepType);
@@ -80,9 +80,9 @@ QDoubleSpinBox* SceneParametersDialog::spinBox(const QString& objectName, const 
 }
 
 QDoubleSpinBox* SceneParametersDialog::robotSpinBox(const QString& objectName, const QString& suffix, int decimals,
-                                                    SceneRange range, double cap,
+                                                    const AllowedRange& range,
                                                     std::function<double&(RobotParams&)> parameter) {
-    QDoubleSpinBox* box = spinBox(objectName, suffix, decimals, range, cap, 0.0, [this, parameter](double value) {
+    QDoubleSpinBox* box = spinBox(objectName, suffix, decimals, range, 0.0, [this, parameter](double value) {
         if (RobotSpec* robot = selectedRobot()) parameter(robot->params) = value;
     });
     robotBindings_.push_back({box, std::move(parameter)});
@@ -101,9 +101,9 @@ QWidget* SceneParametersDialog::simulationTab() {
         scene_.simulation.collision_model = enumOf<CollisionModel>(collisionModel_);
         updateRestitutionEnabled();
     });
-    auto* dt = spinBox("simulation.dt", " s", 6, SceneRange::TimeStep, kMaxSceneTimeStep, s.dt,
+    auto* dt = spinBox("simulation.dt", " s", 6, scene_limits::kTimeStep, s.dt,
                        [this](double v) { scene_.simulation.dt = v; });
-    restitution_ = spinBox("simulation.restitution", QString(), 3, SceneRange::UnitInterval, 1.0, s.restitution,
+    restitution_ = spinBox("simulation.restitution", QString(), 3, scene_limits::kUnitInterval, s.restitution,
                            [this](double v) { scene_.simulation.restitution = v; });
     restitution_->setToolTip(tr("Coefficient of restitution of the impulse model; the paper model ignores it"));
     updateRestitutionEnabled();
@@ -119,9 +119,9 @@ QWidget* SceneParametersDialog::simulationTab() {
 
 QWidget* SceneParametersDialog::fieldTab() {
     // Each side keeps the other's exact value; the walls are rebuilt around the origin.
-    auto* length = spinBox("field.length", " m", 3, SceneRange::Positive, 100.0, scene_.field.length,
+    auto* length = spinBox("field.length", " m", 3, scene_limits::kFieldSize, scene_.field.length,
                            [this](double v) { scene_.field = makeRectangularField(v, scene_.field.width); });
-    auto* width = spinBox("field.width", " m", 3, SceneRange::Positive, 100.0, scene_.field.width,
+    auto* width = spinBox("field.width", " m", 3, scene_limits::kFieldSize, scene_.field.width,
                           [this](double v) { scene_.field = makeRectangularField(scene_.field.length, v); });
     auto* tab = new QWidget;
     auto* form = new QFormLayout(tab);
@@ -133,11 +133,11 @@ QWidget* SceneParametersDialog::fieldTab() {
 
 QWidget* SceneParametersDialog::ballTab() {
     BallParams& b = scene_.ball_params;
-    auto* mass = spinBox("ball.mass", " kg", 4, SceneRange::Positive, 100.0, b.mass,
+    auto* mass = spinBox("ball.mass", " kg", 4, scene_limits::kBallMass, b.mass,
                          [this](double v) { scene_.ball_params.mass = v; });
-    auto* radius = spinBox("ball.radius", " m", 5, SceneRange::Positive, 10.0, b.radius,
+    auto* radius = spinBox("ball.radius", " m", 5, scene_limits::kBallRadius, b.radius,
                            [this](double v) { scene_.ball_params.radius = v; });
-    auto* friction = spinBox("ball.friction", " N s/m", 5, SceneRange::NonNegative, 100.0, b.friction,
+    auto* friction = spinBox("ball.friction", " N s/m", 5, scene_limits::kBallFriction, b.friction,
                              [this](double v) { scene_.ball_params.friction = v; });
     auto* tab = new QWidget;
     auto* form = new QFormLayout(tab);
@@ -173,20 +173,19 @@ QWidget* SceneParametersDialog::robotsTab() {
     auto* body = new QFormLayout;
     body->addRow(tr("Name"), robotName_);
     body->addRow(tr("Team"), robotTeam_);
-    body->addRow(tr("Side"), robotSpinBox("robot.side", " m", 4, SceneRange::Positive, 10.0, member(&P::side)));
-    body->addRow(tr("Mass"), robotSpinBox("robot.mass", " kg", 4, SceneRange::Positive, 1000.0, member(&P::mass)));
+    body->addRow(tr("Side"), robotSpinBox("robot.side", " m", 4, scene_limits::kRobotSide, member(&P::side)));
+    body->addRow(tr("Mass"), robotSpinBox("robot.mass", " kg", 4, scene_limits::kRobotMass, member(&P::mass)));
     QDoubleSpinBox* inertia =
-        robotSpinBox("robot.inertia", " kg m²", 9, SceneRange::Positive, 100.0, member(&P::inertia));
+        robotSpinBox("robot.inertia", " kg m²", 9, scene_limits::kRobotInertia, member(&P::inertia));
     inertia->setToolTip(tr("Yaw inertia about the centre of mass; a uniform cube has mass × side² / 6"));
     body->addRow(tr("Yaw inertia"), inertia);
     body->addRow(tr("Wheel base"),
-                 robotSpinBox("robot.wheel_base", " m", 4, SceneRange::Positive, 10.0, member(&P::wheel_base)));
-    body->addRow(tr("Linear friction"), robotSpinBox("robot.friction_linear", " N s/m", 5, SceneRange::NonNegative,
-                                                     1000.0, member(&P::friction_linear)));
+                 robotSpinBox("robot.wheel_base", " m", 4, scene_limits::kWheelBase, member(&P::wheel_base)));
+    body->addRow(tr("Linear friction"), robotSpinBox("robot.friction_linear", " N s/m", 5, scene_limits::kLinearFriction, member(&P::friction_linear)));
     body->addRow(tr("Angular friction"), robotSpinBox("robot.friction_angular", " N m s/rad", 7,
-                                                      SceneRange::NonNegative, 100.0, member(&P::friction_angular)));
+                                                      scene_limits::kAngularFriction, member(&P::friction_angular)));
     body->addRow(tr("Max voltage"),
-                 robotSpinBox("robot.max_voltage", " V", 3, SceneRange::Positive, 1000.0, member(&P::max_voltage)));
+                 robotSpinBox("robot.max_voltage", " V", 3, scene_limits::kMaxVoltage, member(&P::max_voltage)));
 
     // The two motors side by side: one row per parameter, right then left.
     struct MotorRow {
@@ -194,17 +193,15 @@ QWidget* SceneParametersDialog::robotsTab() {
         const char* key;
         const char* suffix;
         int decimals;
-        SceneRange range;
-        double cap;
+        AllowedRange range;
         double MotorParams::*field;
     };
     const MotorRow rows[] = {
-        {QT_TR_NOOP("Wheel radius"), "wheel_radius", " m", 4, SceneRange::Positive, 1.0, &MotorParams::wheel_radius},
-        {QT_TR_NOOP("Resistance"), "resistance", " ohm", 3, SceneRange::Positive, 10000.0, &MotorParams::resistance},
-        {QT_TR_NOOP("K (back-EMF = torque)"), "k", " V s/rad", 4, SceneRange::Positive, 100.0, &MotorParams::k},
-        {QT_TR_NOOP("Rotor inertia"), "rotor_inertia", " kg m²", 9, SceneRange::NonNegative, 10.0,
-         &MotorParams::rotor_inertia},
-        {QT_TR_NOOP("Friction"), "friction", " N m s/rad", 7, SceneRange::NonNegative, 10.0, &MotorParams::friction},
+        {QT_TR_NOOP("Wheel radius"), "wheel_radius", " m", 4, scene_limits::kWheelRadius, &MotorParams::wheel_radius},
+        {QT_TR_NOOP("Resistance"), "resistance", " ohm", 3, scene_limits::kResistance, &MotorParams::resistance},
+        {QT_TR_NOOP("K (back-EMF = torque)"), "k", " V s/rad", 4, scene_limits::kMotorConstant, &MotorParams::k},
+        {QT_TR_NOOP("Rotor inertia"), "rotor_inertia", " kg m²", 9, scene_limits::kRotorInertia, &MotorParams::rotor_inertia},
+        {QT_TR_NOOP("Friction"), "friction", " N m s/rad", 7, scene_limits::kMotorFriction, &MotorParams::friction},
     };
     const std::pair<const char*, MotorParams P::*> sides[] = {{"right", &P::right}, {"left", &P::left}};
     auto* motors = new QGroupBox(tr("Motors (values at the wheel)"));
@@ -218,7 +215,7 @@ QWidget* SceneParametersDialog::robotsTab() {
         for (const auto& [side, motor] : sides) {
             const QString name = QStringLiteral("robot.%1.%2").arg(QLatin1String(side), QLatin1String(r.key));
             auto parameter = [motor = motor, field = r.field](P& p) -> double& { return (p.*motor).*field; };
-            grid->addWidget(robotSpinBox(name, r.suffix, r.decimals, r.range, r.cap, parameter), row, column++);
+            grid->addWidget(robotSpinBox(name, r.suffix, r.decimals, r.range, parameter), row, column++);
         }
         ++row;
     }

@@ -50,11 +50,11 @@ public slots:
 private:
     // A spin box showing `value`, with the unit as `suffix` and the range the
     // reader checks (scene_value_ranges.h); onEdit gets each changed value.
-    QDoubleSpinBox* spinBox(const QString& objectName, const QString& suffix, int decimals, SceneRange range,
-                            double cap, double value, const std::function<void(double)>& onEdit);
+    QDoubleSpinBox* spinBox(const QString& objectName, const QString& suffix, int decimals, const AllowedRange& range,
+                            double value, const std::function<void(double)>& onEdit);
     // A spin box bound to one parameter of the selected robot.
-    QDoubleSpinBox* robotSpinBox(const QString& objectName, const QString& suffix, int decimals, SceneRange range,
-                                 double cap, std::function<double&(RobotParams&)> parameter);
+    QDoubleSpinBox* robotSpinBox(const QString& objectName, const QString& suffix, int decimals,
+                                 const AllowedRange& range, std::function<double&(RobotParams&)> parameter);
 
     QWidget* simulationTab();
     QWidget* fieldTab();

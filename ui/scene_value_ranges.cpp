@@ -1,18 +1,16 @@
 #include "scene_value_ranges.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vssim {
 
-SpinInterval spinInterval(SceneRange range, int decimals, double cap) {
+SpinInterval spinInterval(const AllowedRange& range, int decimals) {
     const double smallestStep = std::pow(10.0, -decimals);
-    switch (range) {
-        case SceneRange::Positive: return {smallestStep, cap};
-        case SceneRange::NonNegative: return {0.0, cap};
-        case SceneRange::UnitInterval: return {0.0, 1.0};
-        case SceneRange::TimeStep: return {smallestStep, kMaxSceneTimeStep};
-    }
-    return {0.0, cap};
+    double minimum = range.min;
+    // A positive minimum the box would round to 0, or an excluded 0: the smallest value it shows.
+    if ((minimum > 0.0 && minimum < smallestStep) || (minimum == 0.0 && range.aboveMin)) minimum = smallestStep;
+    return {minimum, std::max(minimum, range.max)};
 }
 
 }  // namespace vssim

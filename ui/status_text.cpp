@@ -13,8 +13,9 @@ QString statusText(const Snapshot& s, double realTimeFactor) {
         parts << QString::asprintf("realtime x%.2f", s.speed);
     else
         parts << QString::fromLatin1(runModeName(s.mode));
-    // While paused nothing runs: no real-time factor or engine cost to show.
-    if (s.paused) {
+    if (s.fault) {
+        parts << QStringLiteral("halted: ") + s.fault->message();
+    } else if (s.paused) {  // nothing runs: no real-time factor or engine cost to show
         parts << QStringLiteral("paused");
     } else {
         if (std::isfinite(realTimeFactor) && realTimeFactor >= 0.0)
