@@ -5,8 +5,21 @@
 // one that never reads.
 #include <QSignalSpy>
 #include <QtTest>
+
+#include <atomic>
+#include <fstream>
 #include <map>
 #include <memory>
+#include <string>
+#include <thread>
+
+// POSIX sockets: the flooders are plain clients in threads of their own.
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include "camera/camera_renderer.h"
 #include "camera/image_codec.h"
@@ -15,6 +28,7 @@
 #include "net/control_server.h"
 #include "net/protocol_client.h"
 #include "realtime/engine_thread.h"
+#include "realtime/monotonic_clock.h"
 
 using namespace vssim;
 using protocol::MessageType;
@@ -123,6 +137,112 @@ QJsonObject step(ProtocolClient& client, double duration, std::vector<protocol::
     }
 }
 
+// A client of its own thread with a plain socket, as a separate program
+// would be: after `hello` (whole message bytes; empty: none) it sends
+// `message` over and over, as fast as the server takes it, and never reads.
+class Flooder {
+public:
+    Flooder(quint16 port, const QByteArray& hello, const QByteArray& message) {
+        fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_port = htons(port);
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        // The kernel completes the connection from the listen backlog, before the server accepts it.
+        if (::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+            ::close(fd_);
+            fd_ = -1;
+            return;
+        }
+        QByteArray burst;  // whole messages, so that a partial send keeps the stream aligned
+        while (burst.size() < (64 << 10)) burst += message;
+        thread_ = std::thread([this, hello, burst] { run(hello, burst); });
+    }
+    ~Flooder() {
+        stop_ = true;
+        if (thread_.joinable()) thread_.join();
+        if (fd_ >= 0) ::close(fd_);
+    }
+    bool connected() const { return fd_ >= 0; }
+    std::int64_t bytesSent() const { return sent_.load(); }
+
+private:
+    void run(const QByteArray& hello, const QByteArray& burst) {
+        ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
+        QByteArray pending = hello;
+        qsizetype at = 0;
+        while (!stop_) {
+            pollfd p{fd_, POLLOUT, 0};
+            if (::poll(&p, 1, 20) <= 0) continue;
+            const QByteArray& from = pending.isEmpty() ? burst : pending;
+            const ssize_t n =
+                ::send(fd_, from.constData() + at, static_cast<size_t>(from.size() - at), MSG_NOSIGNAL | MSG_DONTWAIT);
+            if (n < 0) {
+                if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) continue;
+                return;  // the server closed the connection
+            }
+            sent_ += n;
+            at += n;
+            if (at == from.size()) {
+                at = 0;
+                pending.clear();
+            }
+        }
+    }
+    int fd_ = -1;
+    std::thread thread_;
+    std::atomic<bool> stop_{false};
+    std::atomic<std::int64_t> sent_{0};
+};
+
+// This process's resident memory, MiB (Linux).
+double residentMiB() {
+    std::ifstream status("/proc/self/status");
+    std::string key;
+    while (status >> key) {
+        if (key == "VmRSS:") {
+            double kb = 0;
+            status >> kb;
+            return kb / 1024.0;
+        }
+    }
+    return 0.0;
+}
+
+// What a normal client saw while others misbehaved: the longest wait
+// between two STATE messages (from the start, to the end), and what the
+// server held for all its clients at worst.
+struct Watched {
+    double worstGapMs = 0;
+    int states = 0;
+    qint64 peakUnsent = 0;  // bytes, all clients together
+    double residentGrowthMiB = 0;
+};
+
+Watched watch(Served& served, ProtocolClient& observer, int durationMs) {
+    Watched w;
+    const double residentBefore = residentMiB();
+    QElapsedTimer wall;
+    wall.start();
+    std::int64_t last = monotonicNs();
+    while (wall.elapsed() < durationMs) {
+        const auto r = observer.next(20);
+        if (r && r->message.type == std::uint8_t(MessageType::State)) {
+            w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(r->arrivalNs - last));
+            last = r->arrivalNs;
+            ++w.states;
+        }
+        qint64 unsent = 0;
+        for (const ClientInfo& c : served.server->clients()) unsent += c.unsentBytes;
+        w.peakUnsent = std::max(w.peakUnsent, unsent);
+    }
+    w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(monotonicNs() - last));
+    w.residentGrowthMiB = residentMiB() - residentBefore;
+    qInfo("normal client: %d STATEs, worst gap %.1f ms; server: at most %.2f MiB unsent; process memory %+.1f MiB",
+          w.states, w.worstGapMs, static_cast<double>(w.peakUnsent) / (1 << 20), w.residentGrowthMiB);
+    return w;
+}
+
 }  // namespace
 
 class TestServer : public QObject {
@@ -219,11 +339,10 @@ private slots:
         const QJsonObject stats = control("stats")["stats"].toObject();
         QStringList keys = stats.keys();
         keys.sort();
-        QCOMPARE(keys,
-                 (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
-                              "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
-                              "frames_skipped", "image_age_ms", "lag_resets", "late_commands", "patch_area_percent",
-                              "render_ms"}));
+        QCOMPARE(keys, (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
+                                    "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
+                                    "frames_skipped", "image_age_ms", "lag_resets", "late_commands",
+                                    "patch_area_percent", "render_ms"}));
         QCOMPARE(stats["clients"].toInt(), 1);
         QVERIFY(stats["frame_bytes"].isObject() && stats["encode_ms"].isObject());  // no images subscribed: empty
         QVERIFY(stats["command_latency_ms"].toObject().contains("p99"));
@@ -654,6 +773,35 @@ private slots:
         const auto reply = observer->nextOf(MessageType::Reply);
         QVERIFY(reply);
         QVERIFY(jsonPayload(reply->message)["stats"].toObject()["frames_dropped_for_slow_clients"].toInt() > 0);
+    }
+
+    void aVoltagesFlooderDoesNotStallFrames() {
+        // A team client sends valid VOLTAGES as fast as it can (issue 12:
+        // about 1.2 M/s, and gaps of up to 3 s in everyone's frames).
+        Served served(kickoff(), RunMode::Realtime);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(observer);
+        const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("yellow", "none"));
+        Flooder flooder(served.port(), hello,
+                        protocol::encodeMessage(MessageType::Voltages, protocol::encodeVoltages({{0, {5.0, 5.0}}})));
+        const Watched w = watch(served, *observer, 3000);
+        QVERIFY2(w.worstGapMs < 300, qPrintable(QString("no STATE for %1 ms").arg(w.worstGapMs)));
+        // The flood got through, coalesced: far fewer engine requests than messages.
+        std::int64_t accepted = 0;
+        for (const ClientInfo& c : served.server->clients())
+            if (c.role == "yellow") accepted = c.commands;
+        observer->sendJson(MessageType::Control, controlJson("stats"));
+        const auto reply = observer->nextOf(MessageType::Reply);
+        QVERIFY(reply);
+        const int requests =
+            jsonPayload(reply->message)["stats"].toObject()["command_latency_ms"].toObject()["count"].toInt();
+        qInfo("flooder sent %.1f MB; %lld VOLTAGES accepted, %d engine requests",
+              1e-6 * static_cast<double>(flooder.bytesSent()), static_cast<long long>(accepted), requests);
+        QVERIFY2(requests > 0 && accepted >= 4 * requests,
+                 qPrintable(QString("%1 VOLTAGES, %2 requests").arg(accepted).arg(requests)));
+        const auto state = observer->nextOf(MessageType::State);
+        QVERIFY(state);
+        QCOMPARE(jsonPayload(state->message)["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 5.0);
     }
 };
 

@@ -45,7 +45,9 @@ struct ControlServer::Client {
     QString peer;
     protocol::MessageReader reader{protocol::kMaxClientMessage};
     bool greeted = false;
-    bool closing = false;
+    bool closing = false;                            // dropped or disconnected: nothing more is read or sent
+    bool turnQueued = false;                         // a turn to handle the rest of its input is queued
+    std::vector<std::pair<int, Voltages>> voltages;  // this turn's VOLTAGES, the newest per robot
     Hello hello;
     QTimer* helloTimer = nullptr;
     QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
@@ -75,6 +77,7 @@ std::vector<ClientInfo> ControlServer::clients() const {
         info.framesSent = c->framesSent;
         info.framesDropped = c->framesDropped;
         info.unsentBytes = c->socket->bytesToWrite() + c->pendingFrame.size() + c->pendingState.size();
+        info.unreadBytes = c->socket->bytesAvailable() + static_cast<qint64>(c->reader.buffered());
         info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
         out.push_back(info);
     }
@@ -131,6 +134,9 @@ void ControlServer::accept() {
         client->socket = socket;
         // Small messages (replies, STATE) go out at once: no Nagle delay.
         socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
+        // Qt reads no further ahead than this: a client that sends faster than
+        // its turns take is slowed down by TCP instead of filling our memory.
+        socket->setReadBufferSize(kReadAheadBytes);
         client->peer = QStringLiteral("%1:%2").arg(socket->peerAddress().toString()).arg(socket->peerPort());
         client->connectedNs = monotonicNs();
         Client& c = *client;
@@ -139,13 +145,21 @@ void ControlServer::accept() {
         log(c, "connected");
         connect(socket, &QTcpSocket::readyRead, this, [this, id] {
             auto it = clients_.find(id);
-            if (it != clients_.end()) readFrom(*it->second);
+            if (it != clients_.end() && !it->second->turnQueued) serveTurn(*it->second);
         });
         connect(socket, &QTcpSocket::bytesWritten, this, [this, id] {
             auto it = clients_.find(id);
             if (it != clients_.end()) flushPending(*it->second);
         });
-        connect(socket, &QTcpSocket::disconnected, this, [this, id] { forget(id); });
+        // The client goes from the event loop, never from inside a loop over
+        // the clients (a failed write can close a socket there); until then
+        // nothing more is read from it or sent to it.
+        connect(socket, &QTcpSocket::disconnected, this, [this, id] {
+            auto it = clients_.find(id);
+            if (it != clients_.end()) it->second->closing = true;
+            QMetaObject::invokeMethod(
+                this, [this, id] { forget(id); }, Qt::QueuedConnection);
+        });
         c.helloTimer = new QTimer(socket);
         c.helloTimer->setSingleShot(true);
         connect(c.helloTimer, &QTimer::timeout, this, [this, id] {
@@ -165,27 +179,72 @@ void ControlServer::accept() {
     }
 }
 
-void ControlServer::readFrom(Client& client) {
+void ControlServer::serveTurn(Client& client) {
+    // One stamp per turn: a message that waited for its turn arrives, for the
+    // engine, when the server gets to it.
     const std::int64_t arrivalNs = monotonicNs();
-    client.reader.append(client.socket->readAll());
     protocol::Message message;
     std::uint32_t length = 0;
+    int messages = 0;
+    qint64 bytes = 0;
+    bool more = false;  // the turn ended with its budget spent, maybe with input left
     while (!client.closing) {
-        switch (client.reader.next(&message, &length)) {
-            case protocol::MessageReader::Status::NeedMore: return;
-            case protocol::MessageReader::Status::Oversize:
-                sendError(client,
-                          {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
-                                           .arg(length)
-                                           .arg(protocol::kMaxClientMessage)},
-                          true);
-                return;
-            case protocol::MessageReader::Status::Empty:
-                sendError(client, {"malformed", "message length 0 (a message has at least its type byte)"}, true);
-                return;
-            case protocol::MessageReader::Status::Message: handle(client, message, arrivalNs); break;
+        if (messages == kMaxMessagesPerTurn || bytes >= kMaxBytesPerTurn) {
+            more = true;
+            break;
         }
+        const protocol::MessageReader::Status status = client.reader.next(&message, &length);
+        if (status == protocol::MessageReader::Status::NeedMore) {
+            if (client.socket->bytesAvailable() == 0) break;  // the next readyRead starts a turn
+            client.reader.append(client.socket->read(kReadAheadBytes));
+            continue;
+        }
+        if (status == protocol::MessageReader::Status::Oversize) {
+            sendError(client,
+                      {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
+                                       .arg(length)
+                                       .arg(protocol::kMaxClientMessage)},
+                      true);
+            break;
+        }
+        if (status == protocol::MessageReader::Status::Empty) {
+            sendError(client, {"malformed", "message length 0 (a message has at least its type byte)"}, true);
+            break;
+        }
+        ++messages;
+        bytes += 4 + static_cast<qint64>(length);
+        handle(client, message, arrivalNs);
     }
+    flushVoltages(client, arrivalNs);
+    if (!more || client.closing) return;
+    // The rest waits behind what is queued now: other clients' turns and the engine's frames.
+    client.turnQueued = true;
+    QMetaObject::invokeMethod(
+        this,
+        [this, id = client.id] {
+            auto it = clients_.find(id);
+            if (it == clients_.end()) return;
+            it->second->turnQueued = false;
+            serveTurn(*it->second);
+        },
+        Qt::QueuedConnection);
+}
+
+void ControlServer::flushVoltages(Client& client, std::int64_t arrivalNs) {
+    if (client.voltages.empty()) return;
+    EngineRequest request;
+    request.kind = EngineRequest::Kind::Voltages;
+    request.arrivalNs = arrivalNs;
+    request.client = client.id;
+    request.voltages.swap(client.voltages);
+    // A dropped team client's robots have been stopped: its last voltages must not restart them.
+    if (client.closing) return;
+    if (!post(client, std::move(request)))
+        sendError(client,
+                  {"busy",
+                   QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
+                       .arg(kMaxQueuedPerClient)},
+                  false);
 }
 
 void ControlServer::handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs) {
@@ -212,27 +271,7 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
         case MessageType::Hello:
             sendError(client, {"malformed", "HELLO again: a client says HELLO once"}, false);
             return;
-        case MessageType::Voltages: {
-            QString layoutError;
-            const auto entries = protocol::decodeVoltages(message.payload, &layoutError);
-            if (!entries) return sendError(client, {"malformed", layoutError}, false);
-            if (const auto error = checkVoltages(*entries, scene_, client.hello.role))
-                return sendError(client, *error, false);
-            EngineRequest request;
-            request.kind = EngineRequest::Kind::Voltages;
-            request.arrivalNs = arrivalNs;
-            request.client = client.id;
-            request.voltages = *entries;
-            ++client.commands;
-            if (!post(client, std::move(request)))
-                sendError(
-                    client,
-                    {"busy", QStringLiteral(
-                                 "more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
-                                 .arg(kMaxQueuedPerClient)},
-                    false);
-            return;
-        }
+        case MessageType::Voltages: return handleVoltages(client, message);
         case MessageType::Control: {
             QString jsonError;
             const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
@@ -240,6 +279,7 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             RequestError error;
             std::optional<EngineRequest> request = parseControl(*json, scene_, &error);
             if (!request) return sendError(client, error, false, json->value("id"));
+            flushVoltages(client, arrivalNs);  // the turn's VOLTAGES before it, as they came
             request->arrivalNs = arrivalNs;
             request->client = client.id;
             request->id = json->value("id");
@@ -263,6 +303,25 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
                                            .arg(message.type, 2, 16, QChar('0'))
                                            .arg(message.payload.size())},
                       false);
+    }
+}
+
+void ControlServer::handleVoltages(Client& client, const protocol::Message& message) {
+    QString layoutError;
+    const auto entries = protocol::decodeVoltages(message.payload, &layoutError);
+    if (!entries) return sendError(client, {"malformed", layoutError}, false);
+    if (const auto error = checkVoltages(*entries, scene_, client.hello.role)) return sendError(client, *error, false);
+    ++client.commands;
+    // Merged into the turn's one request: the turn's messages share one
+    // arrival instant, at which the engine would apply them one after the
+    // other, so each robot's newest voltages are all that counts.
+    for (const auto& [robot, volts] : *entries) {
+        auto it = std::find_if(client.voltages.begin(), client.voltages.end(),
+                               [robot = robot](const auto& entry) { return entry.first == robot; });
+        if (it != client.voltages.end())
+            it->second = volts;
+        else
+            client.voltages.emplace_back(robot, volts);
     }
 }
 

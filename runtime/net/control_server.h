@@ -7,6 +7,14 @@
 // its socket's send buffer is kept small; in lockstep, where the client sets
 // the pace, frames queue up to lockstepBacklogBytes. A client that lets more
 // than maxUnsentBytes pile up is disconnected.
+//
+// Clients are served fairly: each gets a turn of at most kMaxMessagesPerTurn
+// messages (kMaxBytesPerTurn bytes) when its socket has data, and the rest
+// waits for its next turn, queued behind the other clients' turns and the
+// engine's frames; what the server has not read yet stays in the kernel
+// (beyond kReadAheadBytes), so TCP slows a sender the server cannot keep up
+// with. A turn's VOLTAGES reach the engine as one request, the newest per
+// robot.
 #pragma once
 
 #include <QHostAddress>
@@ -29,11 +37,11 @@ namespace vssim {
 
 struct ServerSettings {
     QHostAddress address = QHostAddress::LocalHost;
-    quint16 port = protocol::kDefaultPort;  // 0: any free port
-    int helloTimeoutMs = 5000;              // a client must say HELLO within this
-    qint64 lockstepBacklogBytes = 1 << 20;  // lockstep: unsent bytes above which new frames wait (newest kept)
-    int realtimeSendBufferBytes = 16 << 10; // real time: the kernel's send buffer for subscribers (SO_SNDBUF)
-    qint64 maxUnsentBytes = 64 << 20;       // unsent bytes above which a client is disconnected
+    quint16 port = protocol::kDefaultPort;   // 0: any free port
+    int helloTimeoutMs = 5000;               // a client must say HELLO within this
+    qint64 lockstepBacklogBytes = 1 << 20;   // lockstep: unsent bytes above which new frames wait (newest kept)
+    int realtimeSendBufferBytes = 16 << 10;  // real time: the kernel's send buffer for subscribers (SO_SNDBUF)
+    qint64 maxUnsentBytes = 64 << 20;        // unsent bytes above which a client is disconnected
     int maxClients = 64;
 };
 
@@ -48,11 +56,18 @@ struct ClientInfo {
     bool state = false;
     std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
     qint64 unsentBytes = 0;  // written for it and not yet taken by the kernel, plus the frame waiting
+    qint64 unreadBytes = 0;  // received from it and not handled yet (the rest waits in the kernel)
     double connectedSeconds = 0.0;
 };
 
 // Requests one client may have waiting for the engine (a flood gets `busy`).
 constexpr int kMaxQueuedPerClient = 500;
+// One client's turn: this many messages or bytes at most (at least one message),
+// so that a few microseconds per message keep a turn well under a millisecond.
+constexpr int kMaxMessagesPerTurn = 64;
+constexpr qint64 kMaxBytesPerTurn = 64 << 10;
+// Bytes Qt reads ahead from one client's socket; more waits in the kernel.
+constexpr qint64 kReadAheadBytes = 64 << 10;
 
 class ControlServer : public QObject {
     Q_OBJECT
@@ -80,8 +95,10 @@ private:
     struct Client;
 
     void accept();
-    void readFrom(Client& client);
+    void serveTurn(Client& client);
+    void flushVoltages(Client& client, std::int64_t arrivalNs);
     void handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs);
+    void handleVoltages(Client& client, const protocol::Message& message);
     void greet(Client& client, const QJsonObject& json);
     void sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id = QJsonValue());
     void send(Client& client, const QByteArray& bytes);
