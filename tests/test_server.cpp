@@ -2,7 +2,9 @@
 // on a free port, and ProtocolClient clients. Every message type round trip,
 // every bad input of docs/protocol.md, patches versus full frames, lockstep
 // determinism, and the engine holding its pace against a flooding client and
-// one that never reads.
+// one that never reads; flooders in threads of their own (as other programs
+// would be) beside a normal client, whose frame period stays sane while the
+// server's memory stays bounded (issue 12).
 #include <QSignalSpy>
 #include <QtTest>
 
@@ -48,12 +50,12 @@ struct Served {
     std::unique_ptr<EngineThread> engine;
     std::unique_ptr<ControlServer> server;
     QStringList log;
-    Served(const Scene& scene, RunMode mode, int helloTimeoutMs = 5000) {
+    Served(const Scene& scene, RunMode mode, int helloTimeoutMs = 5000)
+        : Served(scene, mode, withHelloTimeout(helloTimeoutMs)) {}
+    Served(const Scene& scene, RunMode mode, ServerSettings settings) {
         EngineLoopSettings loop;
         loop.mode = mode;
-        ServerSettings settings;
         settings.port = 0;
-        settings.helloTimeoutMs = helloTimeoutMs;
         engine = std::make_unique<EngineThread>(scene, loop);
         server = std::make_unique<ControlServer>(scene, *engine, settings);
         QObject::connect(server.get(), &ControlServer::logLine, [this](const QString& line) { log << line; });
@@ -71,6 +73,11 @@ struct Served {
         engine->wait();
     }
     quint16 port() const { return server->port(); }
+    static ServerSettings withHelloTimeout(int ms) {
+        ServerSettings settings;
+        settings.helloTimeoutMs = ms;
+        return settings;
+    }
 };
 
 QJsonObject helloJson(const QString& role, const QString& images = "patches", const QString& encoding = "raw",
@@ -216,6 +223,7 @@ struct Watched {
     double worstGapMs = 0;
     int states = 0;
     qint64 peakUnsent = 0;  // bytes, all clients together
+    qint64 peakUnread = 0;  // bytes, all clients together
     double residentGrowthMiB = 0;
 };
 
@@ -232,14 +240,21 @@ Watched watch(Served& served, ProtocolClient& observer, int durationMs) {
             last = r->arrivalNs;
             ++w.states;
         }
-        qint64 unsent = 0;
-        for (const ClientInfo& c : served.server->clients()) unsent += c.unsentBytes;
+        qint64 unsent = 0, unread = 0;
+        for (const ClientInfo& c : served.server->clients()) {
+            unsent += c.unsentBytes;
+            unread += c.unreadBytes;
+        }
         w.peakUnsent = std::max(w.peakUnsent, unsent);
+        w.peakUnread = std::max(w.peakUnread, unread);
     }
     w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(monotonicNs() - last));
     w.residentGrowthMiB = residentMiB() - residentBefore;
-    qInfo("normal client: %d STATEs, worst gap %.1f ms; server: at most %.2f MiB unsent; process memory %+.1f MiB",
-          w.states, w.worstGapMs, static_cast<double>(w.peakUnsent) / (1 << 20), w.residentGrowthMiB);
+    qInfo(
+        "normal client: %d STATEs, worst gap %.1f ms; server: at most %.2f MiB unsent, %.2f MiB unread; process "
+        "memory %+.1f MiB",
+        w.states, w.worstGapMs, static_cast<double>(w.peakUnsent) / (1 << 20),
+        static_cast<double>(w.peakUnread) / (1 << 20), w.residentGrowthMiB);
     return w;
 }
 
@@ -773,6 +788,118 @@ private slots:
         const auto reply = observer->nextOf(MessageType::Reply);
         QVERIFY(reply);
         QVERIFY(jsonPayload(reply->message)["stats"].toObject()["frames_dropped_for_slow_clients"].toInt() > 0);
+    }
+
+    void observerFloodersDoNotStarveAReader() {
+        // 32 observers send 2-byte messages of an unknown type in a loop and
+        // never read (issue 12: 1.87 GB, and no STATE for 16.7 s). Each gets
+        // its ration of ERRORs, then silence; the reader is served on time.
+        Served served(kickoff(), RunMode::Realtime);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(observer);
+        const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "none"));
+        const QByteArray unknown("\x00\x00\x00\x02\x42\x00", 6);
+        std::vector<std::unique_ptr<Flooder>> flooders;
+        for (int i = 0; i < 32; ++i) flooders.push_back(std::make_unique<Flooder>(served.port(), hello, unknown));
+        const Watched w = watch(served, *observer, 3000);
+        std::int64_t sent = 0;
+        for (const auto& f : flooders) sent += f->bytesSent();
+        qInfo("flooders sent %.1f MB", 1e-6 * static_cast<double>(sent));
+        QVERIFY2(w.worstGapMs < 300, qPrintable(QString("no STATE for %1 ms").arg(w.worstGapMs)));
+        // Held for them: about 100 ERRORs each (10 kB) and what they sent that was not handled yet.
+        QVERIFY2(w.peakUnsent < (4 << 20), qPrintable(QString::number(w.peakUnsent)));
+        QVERIFY2(w.peakUnread < 33 * 3 * kReadAheadBytes, qPrintable(QString::number(w.peakUnread)));
+        int rationed = 0;
+        for (const ClientInfo& c : served.server->clients()) rationed += c.errorsNotSent > 0 ? 1 : 0;
+        QCOMPARE(rationed, 32);
+    }
+
+    void errorsAreRationed() {
+        // 150 mistakes at once: 100 ERRORs, then one too_many_errors, then
+        // none for the rest of the 10 s window; good requests still work.
+        Served served(kickoff(), RunMode::Lockstep);
+        auto client = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(client);
+        QByteArray burst;
+        for (int i = 0; i < 150; ++i) burst += protocol::encodeMessage(static_cast<MessageType>(0x42), "x");
+        client->sendRaw(burst);
+        client->sendJson(MessageType::Control, controlJson("stats", {}, 77));
+        int unknown = 0;
+        QJsonObject notice, reply;
+        while (reply.isEmpty()) {
+            const auto r = client->next();
+            QVERIFY(r);
+            const QJsonObject json = jsonPayload(r->message);
+            if (r->message.type == std::uint8_t(MessageType::Reply)) reply = json;
+            if (r->message.type != std::uint8_t(MessageType::Error)) continue;
+            if (json["error"] == "unknown_type") {
+                QVERIFY(notice.isEmpty());
+                ++unknown;
+            } else {
+                QCOMPARE(json["error"].toString(), QString("too_many_errors"));
+                QVERIFY(notice.isEmpty());
+                notice = json;
+            }
+        }
+        QCOMPARE(unknown, kMaxErrorsPerWindow);
+        QCOMPARE(notice["fatal"].toBool(), false);
+        QVERIFY(notice["message"].toString().contains("not reported"));
+        QCOMPARE(reply["id"].toInt(), 77);
+        client->send(static_cast<MessageType>(0x42), "x");
+        QVERIFY(!client->next(300));
+        QCOMPARE(served.server->clients()[0].errorsNotSent, 51);
+    }
+
+    void aClientThatDoesNotReadItsRepliesIsDisconnected() {
+        // Replies are never dropped, so one that asks and never reads is
+        // disconnected past maxUnsentBytes (2 MiB here); the reader stays.
+        ServerSettings settings;
+        settings.maxUnsentBytes = 2 << 20;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(observer);
+        Flooder flooder(served.port(), protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "none")),
+                        protocol::encodeJsonMessage(MessageType::Control, controlJson("pause")));
+        qint64 peak = 0;
+        QElapsedTimer wall;
+        wall.start();
+        while (served.log.filter("MiB unsent").isEmpty() && wall.elapsed() < 20000) {
+            QTest::qWait(5);
+            for (const ClientInfo& c : served.server->clients()) peak = std::max(peak, c.unsentBytes);
+        }
+        QVERIFY2(!served.log.filter("more than 2 MiB unsent").isEmpty(), qPrintable(served.log.join('\n')));
+        QVERIFY(peak <= settings.maxUnsentBytes);
+        QTRY_COMPARE(served.server->clientCount(), 1);
+        QVERIFY(step(*observer, 0.03)["ok"].toBool());
+    }
+
+    void allClientsTogetherHaveABoundedBacklog() {
+        // Three clients ask and never read; the server keeps at most
+        // maxTotalUnsentBytes (2 MiB here) for all of them together by
+        // dropping the one furthest behind; the reader is never the one.
+        ServerSettings settings;
+        settings.maxTotalUnsentBytes = 2 << 20;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "patches", "png", true));
+        QVERIFY(observer);
+        const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "none"));
+        std::vector<std::unique_ptr<Flooder>> flooders;
+        for (int i = 0; i < 3; ++i)
+            flooders.push_back(std::make_unique<Flooder>(
+                served.port(), hello, protocol::encodeJsonMessage(MessageType::Control, controlJson("pause"))));
+        qint64 peak = 0;
+        QElapsedTimer wall;
+        wall.start();
+        while (served.log.filter("for all its clients").size() < 2 && wall.elapsed() < 20000) {
+            QTest::qWait(5);
+            qint64 total = 0;
+            for (const ClientInfo& c : served.server->clients()) total += c.unsentBytes;
+            peak = std::max(peak, total);
+        }
+        QVERIFY2(served.log.filter("for all its clients").size() >= 2, qPrintable(served.log.join('\n')));
+        QVERIFY2(peak <= settings.maxTotalUnsentBytes, qPrintable(QString::number(peak)));
+        QVERIFY(step(*observer, 0.03)["ok"].toBool());
+        QCOMPARE(observer->socket().state(), QAbstractSocket::ConnectedState);
     }
 
     void aVoltagesFlooderDoesNotStallFrames() {

@@ -51,9 +51,15 @@ struct ControlServer::Client {
     Hello hello;
     QTimer* helloTimer = nullptr;
     QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
+    // Other messages (REPLY, ERROR) queued while a frame waits, in order: the
+    // ones produced before it (whose own frames were dropped) and after it.
+    QByteArray heldBefore, heldAfter;
     std::int64_t pendingInstantNs = 0;
     std::int64_t framesDropped = 0;
     int errorsLogged = 0;
+    std::int64_t errorWindowStartNs = 0;  // monotonicNs() of the current error window's first error
+    int errorsInWindow = 0;
+    std::int64_t errorsNotSent = 0;
     std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
     bool statsPending = false;   // one `stats` at a time per client (each sorts thousands of samples)
     bool robotsStopped = false;  // its team's robots got 0 V when it was dropped
@@ -76,7 +82,8 @@ std::vector<ClientInfo> ControlServer::clients() const {
         info.commands = c->commands;
         info.framesSent = c->framesSent;
         info.framesDropped = c->framesDropped;
-        info.unsentBytes = c->socket->bytesToWrite() + c->pendingFrame.size() + c->pendingState.size();
+        info.unsentBytes = unsent(*c) + c->pendingFrame.size() + c->pendingState.size();
+        info.errorsNotSent = c->errorsNotSent;
         info.unreadBytes = c->socket->bytesAvailable() + static_cast<qint64>(c->reader.buffered());
         info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
         out.push_back(info);
@@ -419,6 +426,32 @@ QJsonObject ControlServer::welcome(const Client& client) const {
 
 void ControlServer::sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
     if (client.closing) return;
+    // A fatal error always goes (the connection closes after it).
+    if (fatal || errorAllowed(client)) writeError(client, error, fatal, id);
+}
+
+bool ControlServer::errorAllowed(Client& client) {
+    const std::int64_t nowNs = monotonicNs();
+    if (client.errorsInWindow == 0 || nowNs - client.errorWindowStartNs >= kErrorWindowNs) {
+        client.errorWindowStartNs = nowNs;
+        client.errorsInWindow = 0;
+    }
+    if (++client.errorsInWindow <= kMaxErrorsPerWindow) return true;
+    ++client.errorsNotSent;
+    if (client.errorsInWindow == kMaxErrorsPerWindow + 1) {
+        const double secondsLeft = 1e-9 * static_cast<double>(client.errorWindowStartNs + kErrorWindowNs - nowNs);
+        writeError(client,
+                   {"too_many_errors",
+                    QStringLiteral("too many errors (%1 in %2 s): further ones are not reported for the next %3 s")
+                        .arg(kMaxErrorsPerWindow)
+                        .arg(kErrorWindowNs / 1'000'000'000)
+                        .arg(secondsLeft, 0, 'f', 1)},
+                   false, QJsonValue());
+    }
+    return false;
+}
+
+void ControlServer::writeError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
     if (client.errorsLogged < 20) {
         log(client,
             QStringLiteral("%1 error %2: %3").arg(fatal ? "fatal" : "").arg(error.code, error.message).trimmed());
@@ -434,12 +467,66 @@ void ControlServer::sendError(Client& client, const RequestError& error, bool fa
 
 void ControlServer::send(Client& client, const QByteArray& bytes) {
     if (client.closing) return;
-    if (client.socket->bytesToWrite() + bytes.size() > settings_.maxUnsentBytes) {
-        drop(client, QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)")
-                         .arg(settings_.maxUnsentBytes >> 20));
+    // Messages keep their order: behind a frame that waits, they wait too
+    // (protocol.md: a step's FRAME comes before its REPLY).
+    if (waiting(client)) {
+        if (fits(client, bytes.size())) client.heldAfter += bytes;
         return;
     }
-    client.socket->write(bytes);
+    if (fits(client, bytes.size())) client.socket->write(bytes);
+}
+
+bool ControlServer::waiting(const Client& client) {
+    return !client.pendingFrame.isEmpty() || !client.pendingState.isEmpty();
+}
+
+bool ControlServer::fits(Client& client, qint64 bytes) {
+    if (unsent(client) + bytes > settings_.maxUnsentBytes) {
+        drop(client,
+             QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)")
+                 .arg(static_cast<double>(settings_.maxUnsentBytes) / (1 << 20)),
+             true);
+        return false;
+    }
+    return makeRoom(client, bytes);
+}
+
+qint64 ControlServer::unsent(const Client& client) const {
+    // Not the frame waiting: it is the newest, which the server holds anyway,
+    // shared by every client with the same subscription.
+    return client.socket->bytesToWrite() + client.heldBefore.size() + client.heldAfter.size();
+}
+
+qint64 ControlServer::totalUnsent() const {
+    qint64 total = 0;
+    for (const auto& [id, client] : clients_) total += unsent(*client);
+    return total;
+}
+
+bool ControlServer::makeRoom(Client& writer, qint64 bytes) {
+    for (;;) {
+        // Clients closing are counted (their bytes are still held) but cannot
+        // be dropped again; they hold at most kGraceBytes, for 2 s at most
+        // (one dropped here holds nothing: its bytes are discarded).
+        qint64 total = bytes, most = -1;
+        Client* furthestBehind = nullptr;
+        for (auto& [id, client] : clients_) {
+            const qint64 n = unsent(*client);
+            total += n;
+            if (!client->closing && n > most) {
+                most = n;
+                furthestBehind = client.get();
+            }
+        }
+        if (total <= settings_.maxTotalUnsentBytes || !furthestBehind) return true;
+        drop(*furthestBehind,
+             QStringLiteral("disconnected: the server holds more than %1 MiB unsent for all its clients, the most "
+                            "(%2 bytes) for this one (it is not reading)")
+                 .arg(static_cast<double>(settings_.maxTotalUnsentBytes) / (1 << 20))
+                 .arg(most),
+             true);
+        if (furthestBehind == &writer) return false;
+    }
 }
 
 bool ControlServer::lockstep() const {
@@ -448,8 +535,10 @@ bool ControlServer::lockstep() const {
 }
 
 bool ControlServer::holdsFrames(Client& client) {
-    // Lockstep: the client sets the pace and should get every frame.
-    if (lockstep()) return client.socket->bytesToWrite() > settings_.lockstepBacklogBytes;
+    // Lockstep: the client sets the pace and should get every frame, unless
+    // the server as a whole is short of room.
+    if (lockstep() && totalUnsent() <= settings_.maxTotalUnsentBytes / 2)
+        return client.socket->bytesToWrite() > settings_.lockstepBacklogBytes;
     // Real time: the kernel takes what it can now; whatever it cannot take
     // means the client is behind, and a newer frame would only wait behind it.
     if (client.socket->bytesToWrite() > 0) client.socket->flush();
@@ -457,34 +546,32 @@ bool ControlServer::holdsFrames(Client& client) {
 }
 
 void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray state, std::int64_t instantNs) {
-    if (client.closing) return;
-    if (holdsFrames(client)) {
-        if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) ++client.framesDropped;
-        client.pendingFrame = std::move(frame);
-        client.pendingState = std::move(state);
-        client.pendingInstantNs = instantNs;
-        return;
+    if (client.closing || (frame.isEmpty() && state.isEmpty())) return;
+    if (waiting(client)) {
+        // The older frame is dropped; what was queued behind it now goes before the newer one.
+        ++client.framesDropped;
+        client.heldBefore += client.heldAfter;
+        client.heldAfter.clear();
     }
-    writeInstant(client, frame, state, instantNs);
-}
-
-void ControlServer::writeInstant(Client& client, const QByteArray& frame, const QByteArray& state,
-                                 std::int64_t instantNs) {
-    if (!frame.isEmpty()) {
-        send(client, frame);
-        ++client.framesSent;
-        imageAgeMs_.add(1e-6 * static_cast<double>(monotonicNs() - instantNs));
-    }
-    if (!state.isEmpty()) send(client, state);
+    client.pendingFrame = std::move(frame);
+    client.pendingState = std::move(state);
+    client.pendingInstantNs = instantNs;
+    flushPending(client);
 }
 
 void ControlServer::flushPending(Client& client) {
-    if (client.closing || (client.pendingFrame.isEmpty() && client.pendingState.isEmpty())) return;
-    if (holdsFrames(client)) return;
-    QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
-    client.pendingFrame.clear();
-    client.pendingState.clear();
-    sendNewest(client, std::move(frame), std::move(state), client.pendingInstantNs);
+    if (client.closing || !waiting(client) || holdsFrames(client)) return;
+    const QByteArray before = std::exchange(client.heldBefore, {}), frame = std::exchange(client.pendingFrame, {}),
+                     state = std::exchange(client.pendingState, {}), after = std::exchange(client.heldAfter, {});
+    if (!fits(client, before.size() + frame.size() + state.size() + after.size())) return;
+    // One by one: Qt keeps a large QByteArray written whole as it is, shared
+    // with the other clients that get the same frame.
+    for (const QByteArray* bytes : {&before, &frame, &state, &after})
+        if (!bytes->isEmpty()) client.socket->write(*bytes);
+    if (!frame.isEmpty()) {
+        ++client.framesSent;
+        imageAgeMs_.add(1e-6 * static_cast<double>(monotonicNs() - client.pendingInstantNs));
+    }
 }
 
 void ControlServer::drainEngine() {
@@ -505,14 +592,6 @@ void ControlServer::drainEngine() {
             if (it == clients_.end()) continue;
             Client& client = *it->second;
             if (r.stats) client.statsPending = false;
-            // A frame held back for a slow reader is older than this reply:
-            // it goes first (protocol.md: a step's FRAME comes before its REPLY).
-            if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) {
-                QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
-                client.pendingFrame.clear();
-                client.pendingState.clear();
-                writeInstant(client, frame, state, client.pendingInstantNs);
-            }
             if (!r.ok) {
                 sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
                 continue;
@@ -546,16 +625,25 @@ void ControlServer::updateSubscriptions() {
     engine_.setSubscriptions(images, state);
 }
 
-void ControlServer::drop(Client& client, const QString& why) {
+void ControlServer::drop(Client& client, const QString& why, bool now) {
     if (client.closing) return;
     log(client, why);
     client.closing = true;
-    stopRobots(client);                   // now, as its role is free from now on
+    // What waited behind a frame (its last ERROR among it) is written, the frame not.
+    if (!now && !client.heldBefore.isEmpty()) client.socket->write(client.heldBefore);
+    if (!now && !client.heldAfter.isEmpty()) client.socket->write(client.heldAfter);
+    client.pendingFrame.clear();
+    client.pendingState.clear();
+    client.heldBefore.clear();
+    client.heldAfter.clear();
+    stopRobots(client);  // now, as its role is free from now on
+    updateSubscriptions();
+    // One that does not read would never take its last ERROR: its memory goes now.
+    if (now || client.socket->bytesToWrite() > kGraceBytes) return client.socket->abort();
     client.socket->disconnectFromHost();  // after the unsent bytes (the error reply) are written
     // A client that never reads would keep the connection open: close hard
     // after a grace period.
     QTimer::singleShot(2000, client.socket, [socket = client.socket] { socket->abort(); });
-    updateSubscriptions();
 }
 
 void ControlServer::stopRobots(Client& client) {
