@@ -5,6 +5,7 @@
 // one that never reads; flooders in threads of their own (as other programs
 // would be) beside a normal client, whose frame period stays sane while the
 // server's memory stays bounded (issue 12).
+#include <QProcess>
 #include <QSignalSpy>
 #include <QtTest>
 
@@ -900,6 +901,66 @@ private slots:
         QVERIFY2(peak <= settings.maxTotalUnsentBytes, qPrintable(QString::number(peak)));
         QVERIFY(step(*observer, 0.03)["ok"].toBool());
         QCOMPARE(observer->socket().state(), QAbstractSocket::ConnectedState);
+    }
+
+    void readOnlyObserversOnlyWatch() {
+        // ServerSettings::readOnlyObservers (vssim serve --read-only-observers):
+        // an observer cannot pause, step, reset, place bodies or change the
+        // speed; it may ask for stats; the teams still may.
+        ServerSettings settings;
+        settings.readOnlyObservers = true;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        auto yellow = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(observer && yellow);
+        const QJsonObject refused[] = {
+            controlJson("pause", {}, 1),
+            controlJson("resume", {}, 2),
+            controlJson("step", {{"duration", 3600.0}}, 3),
+            controlJson("reset", {}, 4),
+            controlJson("place_ball", {{"x", 0.1}, {"y", 0.1}}, 5),
+            controlJson("place_robot", {{"robot", 0}, {"x", 0.1}, {"y", 0.1}, {"theta", 0.0}}, 6),
+            controlJson("speed", {{"speed", 2.0}}, 7),
+        };
+        for (const QJsonObject& command : refused) {
+            observer->sendJson(MessageType::Control, command);
+            const QJsonObject error = expectError(*observer, "read_only");
+            QCOMPARE(error["fatal"].toBool(), false);
+            QCOMPARE(error["id"].toInt(), command["id"].toInt());
+            QVERIFY(error["message"].toString().startsWith("CONTROL " + command["command"].toString() + ":"));
+        }
+        // A malformed command is malformed first.
+        observer->sendJson(MessageType::Control, controlJson("step", {{"duration", -1.0}}, 8));
+        QVERIFY(!expectError(*observer, "malformed").isEmpty());
+        observer->sendJson(MessageType::Control, controlJson("stats", {}, 9));
+        const auto stats = observer->nextOf(MessageType::Reply);
+        QVERIFY(stats);
+        QCOMPARE(jsonPayload(stats->message)["id"].toInt(), 9);
+        // Nothing of the refused commands reached the engine: frame 0 still, the ball unmoved.
+        QCOMPARE(jsonPayload(stats->message)["frame"].toInt(), 0);
+        QVERIFY(step(*yellow, 0.03)["ok"].toBool());
+        const auto state = observer->nextOf(MessageType::State);
+        QVERIFY(state);
+        QCOMPARE(jsonPayload(state->message)["frame"].toInt(), 1);
+        QCOMPARE(jsonPayload(state->message)["ball"].toObject()["x"].toDouble(), 0.0);
+        QCOMPARE(served.log.filter("read_only").size(), 7);
+    }
+
+    void vssimServeTakesReadOnlyObservers() {
+        // The command line's option reaches the server.
+        QProcess serve;
+        serve.start(VSSIM_BINARY,
+                    {"serve", "kickoff_3v3", "--read-only-observers", "--port", "0", "--quit-after", "60"});
+        QVERIFY(serve.waitForStarted(5000) && serve.waitForReadyRead(10000));
+        const quint16 port =
+            static_cast<quint16>(QString::fromUtf8(serve.readLine()).trimmed().section(':', -1).toUInt());
+        auto observer = join(port, helloJson("observer", "none"));
+        QVERIFY(observer);
+        observer->sendJson(MessageType::Control, controlJson("pause"));
+        QVERIFY(!expectError(*observer, "read_only").isEmpty());
+        serve.terminate();
+        QVERIFY(serve.waitForFinished(5000));
+        QVERIFY(serve.readAllStandardError().contains("observers are read-only"));
     }
 
     void aVoltagesFlooderDoesNotStallFrames() {

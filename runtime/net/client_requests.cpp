@@ -310,4 +310,6 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
     return r;
 }
 
+bool leavesTheGameAlone(const EngineRequest& request) { return request.kind == EngineRequest::Kind::Stats; }
+
 }  // namespace vssim

@@ -286,6 +286,13 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             RequestError error;
             std::optional<EngineRequest> request = parseControl(*json, scene_, &error);
             if (!request) return sendError(client, error, false, json->value("id"));
+            if (settings_.readOnlyObservers && client.hello.role == ClientRole::Observer &&
+                !leavesTheGameAlone(*request))
+                return sendError(client,
+                                 {"read_only", QStringLiteral("CONTROL %1: observers are read-only on this server; an "
+                                                              "observer may only ask for stats")
+                                                   .arg(request->command)},
+                                 false, json->value("id"));
             flushVoltages(client, arrivalNs);  // the turn's VOLTAGES before it, as they came
             request->arrivalNs = arrivalNs;
             request->client = client.id;

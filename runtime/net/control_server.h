@@ -52,6 +52,10 @@ struct ServerSettings {
     qint64 maxUnsentBytes = 8 << 20;         // one client's unsent bytes above which it is disconnected
     qint64 maxTotalUnsentBytes = 64 << 20;   // all clients' together: above, the one with the most is disconnected
     int maxClients = 64;
+    // Observers may only watch and ask for `stats`: commands that change the
+    // game (pause, step, reset, placing bodies, speed) get ERROR read_only.
+    // For matches, where only the teams (or the person at the app) decide.
+    bool readOnlyObservers = false;
 };
 
 // One connected client, for a connections panel.
