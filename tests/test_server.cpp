@@ -963,6 +963,42 @@ private slots:
         QVERIFY(serve.readAllStandardError().contains("observers are read-only"));
     }
 
+    void connectionsWithoutHelloMakeRoom() {
+        // Connections that never say HELLO cannot lock clients out (issue 12:
+        // 64 of them did, for the hello timeout, here a minute): when the
+        // server is full, the oldest of them goes for a newcomer, one that
+        // has sent nothing before one that has begun; when everyone has said
+        // HELLO, the newcomer is refused.
+        ServerSettings settings;
+        settings.maxClients = 4;
+        settings.helloTimeoutMs = 60000;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        std::vector<std::unique_ptr<ProtocolClient>> silent;
+        for (int i = 0; i < 4; ++i) {
+            silent.push_back(std::make_unique<ProtocolClient>());
+            QVERIFY(silent.back()->connectTo(served.port()));
+        }
+        silent[0]->sendRaw(QByteArray(2, '\0'));  // half a length field: a HELLO on its way, maybe
+        QTRY_COMPARE(served.server->clientCount(), 4);
+        QTRY_COMPARE(served.server->clients()[0].unreadBytes, 2);
+        std::vector<std::unique_ptr<ProtocolClient>> real;
+        for (int evicted : {1, 2, 3, 0}) {
+            real.push_back(join(served.port(), helloJson("observer", "none")));
+            QVERIFY(real.back());
+            const QJsonObject error = expectError(*silent[evicted], "too_many_clients");
+            QCOMPARE(error["fatal"].toBool(), true);
+            QVERIFY(error["message"].toString().contains("has not said HELLO"));
+            QVERIFY(silent[evicted]->waitForDisconnect());
+        }
+        ProtocolClient fifth;
+        QVERIFY(fifth.connectTo(served.port()));
+        QVERIFY(!fifth.hello(helloJson("observer", "none")));
+        QVERIFY(expectError(fifth, "too_many_clients")["message"].toString().contains("at most 4 clients"));
+        QVERIFY(fifth.waitForDisconnect());
+        for (auto& client : real) QCOMPARE(client->socket().state(), QAbstractSocket::ConnectedState);
+        QVERIFY(step(*real[0], 0.03)["ok"].toBool());
+    }
+
     void aVoltagesFlooderDoesNotStallFrames() {
         // A team client sends valid VOLTAGES as fast as it can (issue 12:
         // about 1.2 M/s, and gaps of up to 3 s in everyone's frames).

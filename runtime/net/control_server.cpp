@@ -178,12 +178,35 @@ void ControlServer::accept() {
                           true);
         });
         c.helloTimer->start(settings_.helloTimeoutMs);
-        if (static_cast<int>(clients_.size()) > settings_.maxClients)
-            sendError(
-                c,
-                {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)},
-                true);
+        makeRoomFor(c);
     }
+}
+
+void ControlServer::makeRoomFor(Client& newcomer) {
+    int open = 0;
+    for (const auto& [id, client] : clients_) open += client->closing ? 0 : 1;
+    if (open <= settings_.maxClients) return;
+    // Connections that never say HELLO must not lock real clients out: the
+    // oldest of them goes, preferably one that has sent nothing at all (a
+    // client whose HELLO is on its way has). Only when every connection has
+    // said HELLO is the newcomer refused.
+    Client* silent = nullptr;
+    Client* ungreeted = nullptr;
+    for (const auto& [id, client] : clients_) {
+        if (client.get() == &newcomer || client->greeted || client->closing) continue;
+        if (!ungreeted) ungreeted = client.get();
+        if (!silent && client->socket->bytesAvailable() == 0 && client->reader.buffered() == 0) silent = client.get();
+    }
+    if (Client* oldest = silent ? silent : ungreeted)
+        return sendError(
+            *oldest,
+            {"too_many_clients", QStringLiteral("the server is full (%1 connections) and this one has not said HELLO: "
+                                                "closed to make room for a new one")
+                                     .arg(settings_.maxClients)},
+            true);
+    sendError(newcomer,
+              {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)},
+              true);
 }
 
 void ControlServer::serveTurn(Client& client) {

@@ -117,6 +117,7 @@ private:
     struct Client;
 
     void accept();
+    void makeRoomFor(Client& newcomer);  // above maxClients: the oldest without HELLO goes, or the newcomer
     void serveTurn(Client& client);
     void flushVoltages(Client& client, std::int64_t arrivalNs);
     void handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs);
