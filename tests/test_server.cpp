@@ -999,6 +999,41 @@ private slots:
         QVERIFY(step(*real[0], 0.03)["ok"].toBool());
     }
 
+    void stepsWaitingAreBounded() {
+        // One client may not queue hours of steps (each is done at once by
+        // the engine, an hour of simulated time in seconds of engine time):
+        // past maxQueuedStepSeconds (1 s here) a step gets `busy`, and once
+        // the steps are done there is room again.
+        ServerSettings settings;
+        settings.maxQueuedStepSeconds = 1.0;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto client = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(client);
+        QByteArray burst;
+        for (int id = 1; id <= 5; ++id)
+            burst += protocol::encodeJsonMessage(MessageType::Control, controlJson("step", {{"duration", 0.4}}, id));
+        client->sendRaw(burst);
+        std::vector<int> replied, busy;
+        while (replied.size() + busy.size() < 5) {
+            const auto r = client->next();
+            QVERIFY(r);
+            const QJsonObject json = jsonPayload(r->message);
+            if (r->message.type == std::uint8_t(MessageType::Reply)) replied.push_back(json["id"].toInt());
+            if (r->message.type == std::uint8_t(MessageType::Error)) {
+                QCOMPARE(json["error"].toString(), QString("busy"));
+                QVERIFY(json["message"].toString().contains("more than 1 s"));
+                busy.push_back(json["id"].toInt());
+            }
+        }
+        QCOMPARE(replied, (std::vector<int>{1, 2}));
+        QCOMPARE(busy, (std::vector<int>{3, 4, 5}));
+        for (int id = 6; id <= 8; ++id) {
+            const QJsonObject reply = step(*client, 0.9, nullptr, id);
+            QCOMPARE(reply["ok"].toBool(), true);
+            QCOMPARE(reply["id"].toInt(), id);
+        }
+    }
+
     void aVoltagesFlooderDoesNotStallFrames() {
         // A team client sends valid VOLTAGES as fast as it can (issue 12:
         // about 1.2 M/s, and gaps of up to 3 s in everyone's frames).

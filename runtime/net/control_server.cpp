@@ -3,6 +3,7 @@
 #include <QJsonArray>
 #include <QTcpSocket>
 #include <QTimer>
+#include <deque>
 
 #include "io/scene_io.h"
 #include "realtime/monotonic_clock.h"
@@ -62,6 +63,8 @@ struct ControlServer::Client {
     std::int64_t errorsNotSent = 0;
     std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
     bool statsPending = false;   // one `stats` at a time per client (each sorts thousands of samples)
+    std::deque<double> steps;    // durations of its `step` requests not answered yet, s, oldest first
+    double stepSeconds = 0.0;    // their sum, s
     bool robotsStopped = false;  // its team's robots got 0 V when it was dropped
     std::int64_t commands = 0;   // VOLTAGES accepted
     std::int64_t framesSent = 0;
@@ -324,6 +327,15 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             if (stats && client.statsPending)
                 return sendError(client, {"busy", "CONTROL stats: the previous stats request is not answered yet"},
                                  false, request->id);
+            // Engine time is shared: a client's steps waiting are bounded (ServerSettings).
+            const bool isStep = request->kind == EngineRequest::Kind::Step;
+            const double duration = request->duration;
+            if (isStep && client.stepSeconds + duration > settings_.maxQueuedStepSeconds)
+                return sendError(client,
+                                 {"busy", QStringLiteral("CONTROL step: this client's steps waiting for the engine "
+                                                         "would add up to more than %1 s of simulated time")
+                                              .arg(settings_.maxQueuedStepSeconds)},
+                                 false, request->id);
             if (!post(client, std::move(*request)))
                 return sendError(
                     client,
@@ -332,6 +344,10 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
                                  .arg(kMaxQueuedPerClient)},
                     false, json->value("id"));
             if (stats) client.statsPending = true;
+            if (isStep) {
+                client.steps.push_back(duration);
+                client.stepSeconds += duration;
+            }
             return;
         }
         default:
@@ -622,6 +638,12 @@ void ControlServer::drainEngine() {
             if (it == clients_.end()) continue;
             Client& client = *it->second;
             if (r.stats) client.statsPending = false;
+            if (r.command == QLatin1String("step") && !client.steps.empty()) {
+                const double done = client.steps.front();
+                client.steps.pop_front();
+                // Zero when none is left, so that rounding cannot build up.
+                client.stepSeconds = client.steps.empty() ? 0.0 : client.stepSeconds - done;
+            }
             if (!r.ok) {
                 sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
                 continue;

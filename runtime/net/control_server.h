@@ -56,6 +56,10 @@ struct ServerSettings {
     // game (pause, step, reset, placing bodies, speed) get ERROR read_only.
     // For matches, where only the teams (or the person at the app) decide.
     bool readOnlyObservers = false;
+    // Simulated seconds of `step` one client may have waiting for the engine
+    // (more gets `busy`): the engine does a step at once, and an hour of
+    // simulated time costs it seconds, during which no one else is served.
+    double maxQueuedStepSeconds = kMaxStepDuration;
 };
 
 // One connected client, for a connections panel.
