@@ -1034,6 +1034,71 @@ private slots:
         }
     }
 
+    void noLogLineCarriesAControlCharacter() {
+        // Whatever clients send (names, roles, keys, commands, values, JSON
+        // and types), the server's log has one line per event and nothing
+        // that a terminal or a viewer would take for a line break or an
+        // escape sequence (issue 12, item 7).
+        Served served(kickoff(), RunMode::Lockstep);
+        const QString nasty = QString::fromUtf8("x\ny\rz\x1b[2J\x7f") + QChar(0x85) + QChar(0x2028) + QChar(0x2029) +
+                              QChar(0x202E) + QChar(0) + "%1%2";
+        auto rawJson = [](const QString& json) { return json.toUtf8(); };
+        // Before HELLO: each on a connection of its own, as each is fatal.
+        const QList<QByteArray> first = {
+            protocol::encodeMessage(static_cast<MessageType>(0x1b), "\n"),
+            protocol::encodeMessage(MessageType::Hello, "{\"protocol\":1,\"role\":\"observer\"\n\x1b[2J"),
+            protocol::encodeMessage(MessageType::Hello, "{\"protocol\":1,\"role\":\"obs\xff\xfe\"}"),
+            protocol::encodeJsonMessage(MessageType::Hello, QJsonObject{{"protocol", 1}, {"role", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Hello, QJsonObject{{"protocol", nasty}, {"role", "observer"}}),
+            protocol::encodeJsonMessage(MessageType::Hello,
+                                        QJsonObject{{"protocol", 1}, {"role", "observer"}, {nasty, 1}}),
+            protocol::encodeJsonMessage(MessageType::Hello,
+                                        QJsonObject{{"protocol", 1}, {"role", "observer"}, {"encoding", nasty}}),
+            protocol::encodeJsonMessage(
+                MessageType::Hello, QJsonObject{{"protocol", 1}, {"role", "observer"}, {"name", nasty.repeated(9)}}),
+        };
+        for (const QByteArray& bytes : first) {
+            ProtocolClient client;
+            QVERIFY(client.connectTo(served.port()));
+            client.sendRaw(bytes);
+            QVERIFY(client.nextOf(MessageType::Error));
+            QVERIFY(client.waitForDisconnect());
+        }
+        // After a HELLO with a name full of them.
+        auto client =
+            join(served.port(), QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"name", nasty}, {"images", "none"}});
+        QVERIFY(client);
+        const QList<QByteArray> then = {
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", nasty}, {"id", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", "step"}, {nasty, 1}}),
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", "speed"}, {"speed", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", "step"}, {"duration", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control,
+                                        QJsonObject{{"command", "place_ball"}, {"x", 0}, {"y", nasty}}),
+            protocol::encodeMessage(MessageType::Control, rawJson("{\"command\":\"\n\x1b[2J\"")),
+            protocol::encodeMessage(MessageType::Control, "{\"command\":\"\\u2028\\u0000\\ud800\"}"),
+            protocol::encodeMessage(MessageType::Voltages, "\n\x1b"),
+            protocol::encodeMessage(static_cast<MessageType>(0x0a), "\n\x1b[2J"),
+            protocol::encodeJsonMessage(MessageType::Hello, QJsonObject{{"protocol", 1}, {"name", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control, controlJson("stats", {}, 99)),
+        };
+        for (const QByteArray& bytes : then) client->sendRaw(bytes);
+        QVERIFY(client->nextOf(MessageType::Reply));
+        QVERIFY(served.log.size() > 20);
+        for (const QString& line : served.log) {
+            for (uint c : line.toUcs4()) {
+                const QChar::Category category = QChar::category(static_cast<char32_t>(c));
+                QVERIFY2(QChar::isPrint(static_cast<char32_t>(c)) && category != QChar::Separator_Line &&
+                             category != QChar::Separator_Paragraph,
+                         qPrintable(QString("U+%1 in a log line").arg(c, 4, 16, QChar('0'))));
+            }
+        }
+        // A name's "%1" is text, not a placeholder for what follows.
+        QVERIFY2(!served.log.filter("%1%2\"): ").isEmpty(), qPrintable(served.log.join('\n')));
+        QVERIFY(!served.log.filter("unknown key").isEmpty());
+        QVERIFY(!served.log.filter("unknown_command").isEmpty());
+    }
+
     void aVoltagesFlooderDoesNotStallFrames() {
         // A team client sends valid VOLTAGES as fast as it can (issue 12:
         // about 1.2 M/s, and gaps of up to 3 s in everyone's frames).

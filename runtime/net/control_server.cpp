@@ -127,14 +127,17 @@ bool ControlServer::listen(QString* error) {
 }
 
 void ControlServer::log(const Client& client, const QString& text) {
-    emit logLine(QStringLiteral("client %1 (%2%3): %4")
-                     .arg(client.id)
-                     .arg(client.peer)
-                     .arg(client.greeted
-                              ? QStringLiteral(", ") + roleName(client.hello.role) +
-                                    (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
-                              : QString())
-                     .arg(text));
+    const QString who = client.greeted
+                            ? QStringLiteral(", ") + roleName(client.hello.role) +
+                                  (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
+                            : QString();
+    // In one pass (a "%1" in a client's name stays as it is), and printable
+    // as a whole: the parts are checked where they come from (names, keys
+    // and commands are made printable when parsed), and whatever a later
+    // message may carry, a client cannot start a line of its own in the log.
+    emit logLine(
+        printableText(QStringLiteral("client %1 (%2%3): %4").arg(QString::number(client.id), client.peer, who, text),
+                      kMaxLogLineCharacters));
 }
 
 void ControlServer::accept() {

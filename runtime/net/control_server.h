@@ -78,6 +78,8 @@ struct ClientInfo {
     double connectedSeconds = 0.0;
 };
 
+// A log line is cut here (its client-given parts are cut to 40 or 64 characters long before).
+constexpr int kMaxLogLineCharacters = 1000;
 // Requests one client may have waiting for the engine (a flood gets `busy`).
 constexpr int kMaxQueuedPerClient = 500;
 // One client's turn: this many messages or bytes at most (at least one message),
