@@ -58,10 +58,20 @@ QString serveHelpText() {
                "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
                "  -h, --help           this help\n"
                "\n"
+               "Clients are served fairly, and what the server holds for them is bounded: at most %2\n"
+               "connections (when full, the oldest one without HELLO makes room for a new one), %3\n"
+               "ERRORs per client in %4 s, %5 MiB unsent for a client and %6 MiB for all (a client that\n"
+               "does not read is disconnected): docs/protocol.md, Limits.\n"
+               "\n"
                "On start it prints \"listening on ADDR:PORT\" on standard output; the log (connections,\n"
                "errors, disconnections) goes to standard error. Stop it with Ctrl-C.\n"
                "Exit status: 0 stopped, 1 cannot listen, 2 bad usage or scene.\n")
-        .arg(protocol::kDefaultPort);
+        .arg(protocol::kDefaultPort)
+        .arg(ServerSettings{}.maxClients)
+        .arg(kMaxErrorsPerWindow)
+        .arg(kErrorWindowNs / 1'000'000'000)
+        .arg(ServerSettings{}.maxUnsentBytes >> 20)
+        .arg(ServerSettings{}.maxTotalUnsentBytes >> 20);
 }
 
 int serveCommand(const QStringList& arguments) {
