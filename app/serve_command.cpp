@@ -50,14 +50,28 @@ QString serveHelpText() {
                "  --paused             start paused (CONTROL resume or step)\n"
                "  --scene-commands     also apply the scene's own voltage commands (by default only the\n"
                "                       clients drive the robots)\n"
+               "  --read-only-observers\n"
+               "                       observers may only watch and ask for stats: their pause, resume,\n"
+               "                       step, reset, place_robot, place_ball and speed get ERROR read_only\n"
+               "                       (for matches: only the teams' clients control the game)\n"
                "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
                "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
                "  -h, --help           this help\n"
                "\n"
+               "Clients are served fairly, and what the server holds for them is bounded: at most %2\n"
+               "connections (when full, the oldest one without HELLO makes room for a new one), %3\n"
+               "ERRORs per client in %4 s, %5 MiB unsent for a client and %6 MiB for all (a client that\n"
+               "does not read is disconnected): docs/protocol.md, Limits.\n"
+               "\n"
                "On start it prints \"listening on ADDR:PORT\" on standard output; the log (connections,\n"
                "errors, disconnections) goes to standard error. Stop it with Ctrl-C.\n"
                "Exit status: 0 stopped, 1 cannot listen, 2 bad usage or scene.\n")
-        .arg(protocol::kDefaultPort);
+        .arg(protocol::kDefaultPort)
+        .arg(ServerSettings{}.maxClients)
+        .arg(kMaxErrorsPerWindow)
+        .arg(kErrorWindowNs / 1'000'000'000)
+        .arg(ServerSettings{}.maxUnsentBytes >> 20)
+        .arg(ServerSettings{}.maxTotalUnsentBytes >> 20);
 }
 
 int serveCommand(const QStringList& arguments) {
@@ -72,7 +86,9 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption helloTimeout("hello-timeout", "s", "S");
     const QCommandLineOption quitAfter("quit-after", "s", "S");
     const QCommandLineOption sceneCommands("scene-commands", "scene commands");
-    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands});
+    const QCommandLineOption readOnlyObservers("read-only-observers", "read-only observers");
+    parser.addOptions(
+        {help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands, readOnlyObservers});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -132,6 +148,7 @@ int serveCommand(const QStringList& arguments) {
     double helloSeconds = 5.0;
     if (parser.isSet(helloTimeout) && !seconds(helloTimeout, "hello-timeout", &helloSeconds)) return 2;
     server.helloTimeoutMs = static_cast<int>(std::ceil(helloSeconds * 1000));
+    server.readOnlyObservers = parser.isSet(readOnlyObservers);
     double quitSeconds = 0.0;
     if (parser.isSet(quitAfter) && !seconds(quitAfter, "quit-after", &quitSeconds)) return 2;
 
@@ -175,7 +192,7 @@ int serveCommand(const QStringList& arguments) {
     QTextStream out(stdout);
     out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
     out.flush();
-    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6")
+    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7")
             .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName())
                                             : scenePath)
             .arg(scene->robots.size())
@@ -184,7 +201,8 @@ int serveCommand(const QStringList& arguments) {
             .arg(scene->simulation.dt)
             .arg(parser.isSet(sceneCommands)
                      ? QStringLiteral("%1 scene commands applied").arg(scheduled)
-                     : QStringLiteral("%1 scene commands ignored (--scene-commands applies them)").arg(scheduled)));
+                     : QStringLiteral("%1 scene commands ignored (--scene-commands applies them)").arg(scheduled))
+            .arg(server.readOnlyObservers ? QStringLiteral("; observers are read-only") : QString()));
 
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);

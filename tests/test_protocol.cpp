@@ -114,6 +114,7 @@ private slots:
     void controlNonFiniteNumbers();
     void reviewFindings();
     void messagesCarryNoControlCharacters();
+    void printableTextCatchesEveryLineBreaker();
     void portsAndAddresses();
 };
 
@@ -740,6 +741,17 @@ void TestProtocol::messagesCarryNoControlCharacters() {
     // The value as given, not rounded to six digits.
     QVERIFY(!parseControl(QJsonObject{{"command", "step"}, {"duration", 3600.0001}}, scene, &error));
     QVERIFY2(error.message.contains("3600.0001 s"), qPrintable(error.message));
+}
+
+void TestProtocol::printableTextCatchesEveryLineBreaker() {
+    // C0 controls, DEL, C1 (NEL, U+0085), the line and paragraph separators
+    // (which Qt calls printable) and format characters (U+202E turns the
+    // rest of a line around): each a "?"; letters and symbols stay.
+    const QString text = QString::fromUtf8("a\nb\rc\x1b[31md\x7f") + QChar(0x85) + QChar(0x2028) + QChar(0x2029) +
+                         QChar(0x202E) + QString::fromUtf8("é😀");
+    QCOMPARE(printableText(text, 100), QString::fromUtf8("a?b?c?[31md?????é😀"));
+    // Cut by characters, not UTF-16 units.
+    QCOMPARE(printableText(QString::fromUtf8("😀😀😀"), 2), QString::fromUtf8("😀😀..."));
 }
 
 void TestProtocol::portsAndAddresses() {

@@ -2,11 +2,27 @@
 // on a free port, and ProtocolClient clients. Every message type round trip,
 // every bad input of docs/protocol.md, patches versus full frames, lockstep
 // determinism, and the engine holding its pace against a flooding client and
-// one that never reads.
+// one that never reads; flooders in threads of their own (as other programs
+// would be) beside a normal client, whose frame period stays sane while the
+// server's memory stays bounded (issue 12).
+#include <QProcess>
 #include <QSignalSpy>
 #include <QtTest>
+
+#include <atomic>
+#include <fstream>
 #include <map>
 #include <memory>
+#include <string>
+#include <thread>
+
+// POSIX sockets: the flooders are plain clients in threads of their own.
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include "camera/camera_renderer.h"
 #include "camera/image_codec.h"
@@ -15,6 +31,7 @@
 #include "net/control_server.h"
 #include "net/protocol_client.h"
 #include "realtime/engine_thread.h"
+#include "realtime/monotonic_clock.h"
 
 using namespace vssim;
 using protocol::MessageType;
@@ -34,12 +51,12 @@ struct Served {
     std::unique_ptr<EngineThread> engine;
     std::unique_ptr<ControlServer> server;
     QStringList log;
-    Served(const Scene& scene, RunMode mode, int helloTimeoutMs = 5000) {
+    Served(const Scene& scene, RunMode mode, int helloTimeoutMs = 5000)
+        : Served(scene, mode, withHelloTimeout(helloTimeoutMs)) {}
+    Served(const Scene& scene, RunMode mode, ServerSettings settings) {
         EngineLoopSettings loop;
         loop.mode = mode;
-        ServerSettings settings;
         settings.port = 0;
-        settings.helloTimeoutMs = helloTimeoutMs;
         engine = std::make_unique<EngineThread>(scene, loop);
         server = std::make_unique<ControlServer>(scene, *engine, settings);
         QObject::connect(server.get(), &ControlServer::logLine, [this](const QString& line) { log << line; });
@@ -57,6 +74,11 @@ struct Served {
         engine->wait();
     }
     quint16 port() const { return server->port(); }
+    static ServerSettings withHelloTimeout(int ms) {
+        ServerSettings settings;
+        settings.helloTimeoutMs = ms;
+        return settings;
+    }
 };
 
 QJsonObject helloJson(const QString& role, const QString& images = "patches", const QString& encoding = "raw",
@@ -121,6 +143,120 @@ QJsonObject step(ProtocolClient& client, double duration, std::vector<protocol::
             return jsonPayload(r->message);
         if (before) before->push_back(r->message);
     }
+}
+
+// A client of its own thread with a plain socket, as a separate program
+// would be: after `hello` (whole message bytes; empty: none) it sends
+// `message` over and over, as fast as the server takes it, and never reads.
+class Flooder {
+public:
+    Flooder(quint16 port, const QByteArray& hello, const QByteArray& message) {
+        fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_port = htons(port);
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        // The kernel completes the connection from the listen backlog, before the server accepts it.
+        if (::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+            ::close(fd_);
+            fd_ = -1;
+            return;
+        }
+        QByteArray burst;  // whole messages, so that a partial send keeps the stream aligned
+        while (burst.size() < (64 << 10)) burst += message;
+        thread_ = std::thread([this, hello, burst] { run(hello, burst); });
+    }
+    ~Flooder() {
+        stop_ = true;
+        if (thread_.joinable()) thread_.join();
+        if (fd_ >= 0) ::close(fd_);
+    }
+    bool connected() const { return fd_ >= 0; }
+    std::int64_t bytesSent() const { return sent_.load(); }
+
+private:
+    void run(const QByteArray& hello, const QByteArray& burst) {
+        ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
+        QByteArray pending = hello;
+        qsizetype at = 0;
+        while (!stop_) {
+            pollfd p{fd_, POLLOUT, 0};
+            if (::poll(&p, 1, 20) <= 0) continue;
+            const QByteArray& from = pending.isEmpty() ? burst : pending;
+            const ssize_t n =
+                ::send(fd_, from.constData() + at, static_cast<size_t>(from.size() - at), MSG_NOSIGNAL | MSG_DONTWAIT);
+            if (n < 0) {
+                if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) continue;
+                return;  // the server closed the connection
+            }
+            sent_ += n;
+            at += n;
+            if (at == from.size()) {
+                at = 0;
+                pending.clear();
+            }
+        }
+    }
+    int fd_ = -1;
+    std::thread thread_;
+    std::atomic<bool> stop_{false};
+    std::atomic<std::int64_t> sent_{0};
+};
+
+// This process's resident memory, MiB (Linux).
+double residentMiB() {
+    std::ifstream status("/proc/self/status");
+    std::string key;
+    while (status >> key) {
+        if (key == "VmRSS:") {
+            double kb = 0;
+            status >> kb;
+            return kb / 1024.0;
+        }
+    }
+    return 0.0;
+}
+
+// What a normal client saw while others misbehaved: the longest wait
+// between two STATE messages (from the start, to the end), and what the
+// server held for all its clients at worst.
+struct Watched {
+    double worstGapMs = 0;
+    int states = 0;
+    qint64 peakUnsent = 0;  // bytes, all clients together
+    qint64 peakUnread = 0;  // bytes, all clients together
+    double residentGrowthMiB = 0;
+};
+
+Watched watch(Served& served, ProtocolClient& observer, int durationMs) {
+    Watched w;
+    const double residentBefore = residentMiB();
+    QElapsedTimer wall;
+    wall.start();
+    std::int64_t last = monotonicNs();
+    while (wall.elapsed() < durationMs) {
+        const auto r = observer.next(20);
+        if (r && r->message.type == std::uint8_t(MessageType::State)) {
+            w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(r->arrivalNs - last));
+            last = r->arrivalNs;
+            ++w.states;
+        }
+        qint64 unsent = 0, unread = 0;
+        for (const ClientInfo& c : served.server->clients()) {
+            unsent += c.unsentBytes;
+            unread += c.unreadBytes;
+        }
+        w.peakUnsent = std::max(w.peakUnsent, unsent);
+        w.peakUnread = std::max(w.peakUnread, unread);
+    }
+    w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(monotonicNs() - last));
+    w.residentGrowthMiB = residentMiB() - residentBefore;
+    qInfo(
+        "normal client: %d STATEs, worst gap %.1f ms; server: at most %.2f MiB unsent, %.2f MiB unread; process "
+        "memory %+.1f MiB",
+        w.states, w.worstGapMs, static_cast<double>(w.peakUnsent) / (1 << 20),
+        static_cast<double>(w.peakUnread) / (1 << 20), w.residentGrowthMiB);
+    return w;
 }
 
 }  // namespace
@@ -219,11 +355,10 @@ private slots:
         const QJsonObject stats = control("stats")["stats"].toObject();
         QStringList keys = stats.keys();
         keys.sort();
-        QCOMPARE(keys,
-                 (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
-                              "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
-                              "frames_skipped", "image_age_ms", "lag_resets", "late_commands", "patch_area_percent",
-                              "render_ms"}));
+        QCOMPARE(keys, (QStringList{"clients", "command_delay_ms", "command_latency_ms", "encode_ms", "frame_bytes",
+                                    "frame_period_ms", "frames_dropped_for_slow_clients", "frames_dropped_unsent",
+                                    "frames_skipped", "image_age_ms", "lag_resets", "late_commands",
+                                    "patch_area_percent", "render_ms"}));
         QCOMPARE(stats["clients"].toInt(), 1);
         QVERIFY(stats["frame_bytes"].isObject() && stats["encode_ms"].isObject());  // no images subscribed: empty
         QVERIFY(stats["command_latency_ms"].toObject().contains("p99"));
@@ -654,6 +789,343 @@ private slots:
         const auto reply = observer->nextOf(MessageType::Reply);
         QVERIFY(reply);
         QVERIFY(jsonPayload(reply->message)["stats"].toObject()["frames_dropped_for_slow_clients"].toInt() > 0);
+    }
+
+    void observerFloodersDoNotStarveAReader() {
+        // 32 observers send 2-byte messages of an unknown type in a loop and
+        // never read (issue 12: 1.87 GB, and no STATE for 16.7 s). Each gets
+        // its ration of ERRORs, then silence; the reader is served on time.
+        Served served(kickoff(), RunMode::Realtime);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(observer);
+        const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "none"));
+        const QByteArray unknown("\x00\x00\x00\x02\x42\x00", 6);
+        std::vector<std::unique_ptr<Flooder>> flooders;
+        for (int i = 0; i < 32; ++i) flooders.push_back(std::make_unique<Flooder>(served.port(), hello, unknown));
+        const Watched w = watch(served, *observer, 3000);
+        std::int64_t sent = 0;
+        for (const auto& f : flooders) sent += f->bytesSent();
+        qInfo("flooders sent %.1f MB", 1e-6 * static_cast<double>(sent));
+        QVERIFY2(w.worstGapMs < 300, qPrintable(QString("no STATE for %1 ms").arg(w.worstGapMs)));
+        // Held for them: about 100 ERRORs each (10 kB) and what they sent that was not handled yet.
+        QVERIFY2(w.peakUnsent < (4 << 20), qPrintable(QString::number(w.peakUnsent)));
+        QVERIFY2(w.peakUnread < 33 * 3 * kReadAheadBytes, qPrintable(QString::number(w.peakUnread)));
+        int rationed = 0;
+        for (const ClientInfo& c : served.server->clients()) rationed += c.errorsNotSent > 0 ? 1 : 0;
+        QCOMPARE(rationed, 32);
+    }
+
+    void errorsAreRationed() {
+        // 150 mistakes at once: 100 ERRORs, then one too_many_errors, then
+        // none for the rest of the 10 s window; good requests still work.
+        Served served(kickoff(), RunMode::Lockstep);
+        auto client = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(client);
+        QByteArray burst;
+        for (int i = 0; i < 150; ++i) burst += protocol::encodeMessage(static_cast<MessageType>(0x42), "x");
+        client->sendRaw(burst);
+        client->sendJson(MessageType::Control, controlJson("stats", {}, 77));
+        int unknown = 0;
+        QJsonObject notice, reply;
+        while (reply.isEmpty()) {
+            const auto r = client->next();
+            QVERIFY(r);
+            const QJsonObject json = jsonPayload(r->message);
+            if (r->message.type == std::uint8_t(MessageType::Reply)) reply = json;
+            if (r->message.type != std::uint8_t(MessageType::Error)) continue;
+            if (json["error"] == "unknown_type") {
+                QVERIFY(notice.isEmpty());
+                ++unknown;
+            } else {
+                QCOMPARE(json["error"].toString(), QString("too_many_errors"));
+                QVERIFY(notice.isEmpty());
+                notice = json;
+            }
+        }
+        QCOMPARE(unknown, kMaxErrorsPerWindow);
+        QCOMPARE(notice["fatal"].toBool(), false);
+        QVERIFY(notice["message"].toString().contains("not reported"));
+        QCOMPARE(reply["id"].toInt(), 77);
+        client->send(static_cast<MessageType>(0x42), "x");
+        QVERIFY(!client->next(300));
+        QCOMPARE(served.server->clients()[0].errorsNotSent, 51);
+    }
+
+    void aClientThatDoesNotReadItsRepliesIsDisconnected() {
+        // Replies are never dropped, so one that asks and never reads is
+        // disconnected past maxUnsentBytes (2 MiB here); the reader stays.
+        ServerSettings settings;
+        settings.maxUnsentBytes = 2 << 20;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(observer);
+        Flooder flooder(served.port(), protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "none")),
+                        protocol::encodeJsonMessage(MessageType::Control, controlJson("pause")));
+        qint64 peak = 0;
+        QElapsedTimer wall;
+        wall.start();
+        while (served.log.filter("MiB unsent").isEmpty() && wall.elapsed() < 20000) {
+            QTest::qWait(5);
+            for (const ClientInfo& c : served.server->clients()) peak = std::max(peak, c.unsentBytes);
+        }
+        QVERIFY2(!served.log.filter("more than 2 MiB unsent").isEmpty(), qPrintable(served.log.join('\n')));
+        QVERIFY(peak <= settings.maxUnsentBytes);
+        QTRY_COMPARE(served.server->clientCount(), 1);
+        QVERIFY(step(*observer, 0.03)["ok"].toBool());
+    }
+
+    void allClientsTogetherHaveABoundedBacklog() {
+        // Three clients ask and never read; the server keeps at most
+        // maxTotalUnsentBytes (2 MiB here) for all of them together by
+        // dropping the one furthest behind; the reader is never the one.
+        ServerSettings settings;
+        settings.maxTotalUnsentBytes = 2 << 20;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "patches", "png", true));
+        QVERIFY(observer);
+        const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "none"));
+        std::vector<std::unique_ptr<Flooder>> flooders;
+        for (int i = 0; i < 3; ++i)
+            flooders.push_back(std::make_unique<Flooder>(
+                served.port(), hello, protocol::encodeJsonMessage(MessageType::Control, controlJson("pause"))));
+        qint64 peak = 0;
+        QElapsedTimer wall;
+        wall.start();
+        while (served.log.filter("for all its clients").size() < 2 && wall.elapsed() < 20000) {
+            QTest::qWait(5);
+            qint64 total = 0;
+            for (const ClientInfo& c : served.server->clients()) total += c.unsentBytes;
+            peak = std::max(peak, total);
+        }
+        QVERIFY2(served.log.filter("for all its clients").size() >= 2, qPrintable(served.log.join('\n')));
+        QVERIFY2(peak <= settings.maxTotalUnsentBytes, qPrintable(QString::number(peak)));
+        QVERIFY(step(*observer, 0.03)["ok"].toBool());
+        QCOMPARE(observer->socket().state(), QAbstractSocket::ConnectedState);
+    }
+
+    void readOnlyObserversOnlyWatch() {
+        // ServerSettings::readOnlyObservers (vssim serve --read-only-observers):
+        // an observer cannot pause, step, reset, place bodies or change the
+        // speed; it may ask for stats; the teams still may.
+        ServerSettings settings;
+        settings.readOnlyObservers = true;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        auto yellow = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(observer && yellow);
+        const QJsonObject refused[] = {
+            controlJson("pause", {}, 1),
+            controlJson("resume", {}, 2),
+            controlJson("step", {{"duration", 3600.0}}, 3),
+            controlJson("reset", {}, 4),
+            controlJson("place_ball", {{"x", 0.1}, {"y", 0.1}}, 5),
+            controlJson("place_robot", {{"robot", 0}, {"x", 0.1}, {"y", 0.1}, {"theta", 0.0}}, 6),
+            controlJson("speed", {{"speed", 2.0}}, 7),
+        };
+        for (const QJsonObject& command : refused) {
+            observer->sendJson(MessageType::Control, command);
+            const QJsonObject error = expectError(*observer, "read_only");
+            QCOMPARE(error["fatal"].toBool(), false);
+            QCOMPARE(error["id"].toInt(), command["id"].toInt());
+            QVERIFY(error["message"].toString().startsWith("CONTROL " + command["command"].toString() + ":"));
+        }
+        // A malformed command is malformed first.
+        observer->sendJson(MessageType::Control, controlJson("step", {{"duration", -1.0}}, 8));
+        QVERIFY(!expectError(*observer, "malformed").isEmpty());
+        observer->sendJson(MessageType::Control, controlJson("stats", {}, 9));
+        const auto stats = observer->nextOf(MessageType::Reply);
+        QVERIFY(stats);
+        QCOMPARE(jsonPayload(stats->message)["id"].toInt(), 9);
+        // Nothing of the refused commands reached the engine: frame 0 still, the ball unmoved.
+        QCOMPARE(jsonPayload(stats->message)["frame"].toInt(), 0);
+        QVERIFY(step(*yellow, 0.03)["ok"].toBool());
+        const auto state = observer->nextOf(MessageType::State);
+        QVERIFY(state);
+        QCOMPARE(jsonPayload(state->message)["frame"].toInt(), 1);
+        QCOMPARE(jsonPayload(state->message)["ball"].toObject()["x"].toDouble(), 0.0);
+        QCOMPARE(served.log.filter("read_only").size(), 7);
+    }
+
+    void vssimServeTakesReadOnlyObservers() {
+        // The command line's option reaches the server.
+        QProcess serve;
+        serve.start(VSSIM_BINARY,
+                    {"serve", "kickoff_3v3", "--read-only-observers", "--port", "0", "--quit-after", "60"});
+        QVERIFY(serve.waitForStarted(5000) && serve.waitForReadyRead(10000));
+        const quint16 port =
+            static_cast<quint16>(QString::fromUtf8(serve.readLine()).trimmed().section(':', -1).toUInt());
+        auto observer = join(port, helloJson("observer", "none"));
+        QVERIFY(observer);
+        observer->sendJson(MessageType::Control, controlJson("pause"));
+        QVERIFY(!expectError(*observer, "read_only").isEmpty());
+        serve.terminate();
+        QVERIFY(serve.waitForFinished(5000));
+        QVERIFY(serve.readAllStandardError().contains("observers are read-only"));
+    }
+
+    void connectionsWithoutHelloMakeRoom() {
+        // Connections that never say HELLO cannot lock clients out (issue 12:
+        // 64 of them did, for the hello timeout, here a minute): when the
+        // server is full, the oldest of them goes for a newcomer, one that
+        // has sent nothing before one that has begun; when everyone has said
+        // HELLO, the newcomer is refused.
+        ServerSettings settings;
+        settings.maxClients = 4;
+        settings.helloTimeoutMs = 60000;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        std::vector<std::unique_ptr<ProtocolClient>> silent;
+        for (int i = 0; i < 4; ++i) {
+            silent.push_back(std::make_unique<ProtocolClient>());
+            QVERIFY(silent.back()->connectTo(served.port()));
+        }
+        silent[0]->sendRaw(QByteArray(2, '\0'));  // half a length field: a HELLO on its way, maybe
+        QTRY_COMPARE(served.server->clientCount(), 4);
+        QTRY_COMPARE(served.server->clients()[0].unreadBytes, 2);
+        std::vector<std::unique_ptr<ProtocolClient>> real;
+        for (int evicted : {1, 2, 3, 0}) {
+            real.push_back(join(served.port(), helloJson("observer", "none")));
+            QVERIFY(real.back());
+            const QJsonObject error = expectError(*silent[evicted], "too_many_clients");
+            QCOMPARE(error["fatal"].toBool(), true);
+            QVERIFY(error["message"].toString().contains("has not said HELLO"));
+            QVERIFY(silent[evicted]->waitForDisconnect());
+        }
+        ProtocolClient fifth;
+        QVERIFY(fifth.connectTo(served.port()));
+        QVERIFY(!fifth.hello(helloJson("observer", "none")));
+        QVERIFY(expectError(fifth, "too_many_clients")["message"].toString().contains("at most 4 clients"));
+        QVERIFY(fifth.waitForDisconnect());
+        for (auto& client : real) QCOMPARE(client->socket().state(), QAbstractSocket::ConnectedState);
+        QVERIFY(step(*real[0], 0.03)["ok"].toBool());
+    }
+
+    void stepsWaitingAreBounded() {
+        // One client may not queue hours of steps (each is done at once by
+        // the engine, an hour of simulated time in seconds of engine time):
+        // past maxQueuedStepSeconds (1 s here) a step gets `busy`, and once
+        // the steps are done there is room again.
+        ServerSettings settings;
+        settings.maxQueuedStepSeconds = 1.0;
+        Served served(kickoff(), RunMode::Lockstep, settings);
+        auto client = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(client);
+        QByteArray burst;
+        for (int id = 1; id <= 5; ++id)
+            burst += protocol::encodeJsonMessage(MessageType::Control, controlJson("step", {{"duration", 0.4}}, id));
+        client->sendRaw(burst);
+        std::vector<int> replied, busy;
+        while (replied.size() + busy.size() < 5) {
+            const auto r = client->next();
+            QVERIFY(r);
+            const QJsonObject json = jsonPayload(r->message);
+            if (r->message.type == std::uint8_t(MessageType::Reply)) replied.push_back(json["id"].toInt());
+            if (r->message.type == std::uint8_t(MessageType::Error)) {
+                QCOMPARE(json["error"].toString(), QString("busy"));
+                QVERIFY(json["message"].toString().contains("more than 1 s"));
+                busy.push_back(json["id"].toInt());
+            }
+        }
+        QCOMPARE(replied, (std::vector<int>{1, 2}));
+        QCOMPARE(busy, (std::vector<int>{3, 4, 5}));
+        for (int id = 6; id <= 8; ++id) {
+            const QJsonObject reply = step(*client, 0.9, nullptr, id);
+            QCOMPARE(reply["ok"].toBool(), true);
+            QCOMPARE(reply["id"].toInt(), id);
+        }
+    }
+
+    void noLogLineCarriesAControlCharacter() {
+        // Whatever clients send (names, roles, keys, commands, values, JSON
+        // and types), the server's log has one line per event and nothing
+        // that a terminal or a viewer would take for a line break or an
+        // escape sequence (issue 12, item 7).
+        Served served(kickoff(), RunMode::Lockstep);
+        const QString nasty = QString::fromUtf8("x\ny\rz\x1b[2J\x7f") + QChar(0x85) + QChar(0x2028) + QChar(0x2029) +
+                              QChar(0x202E) + QChar(0) + "%1%2";
+        auto rawJson = [](const QString& json) { return json.toUtf8(); };
+        // Before HELLO: each on a connection of its own, as each is fatal.
+        const QList<QByteArray> first = {
+            protocol::encodeMessage(static_cast<MessageType>(0x1b), "\n"),
+            protocol::encodeMessage(MessageType::Hello, "{\"protocol\":1,\"role\":\"observer\"\n\x1b[2J"),
+            protocol::encodeMessage(MessageType::Hello, "{\"protocol\":1,\"role\":\"obs\xff\xfe\"}"),
+            protocol::encodeJsonMessage(MessageType::Hello, QJsonObject{{"protocol", 1}, {"role", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Hello, QJsonObject{{"protocol", nasty}, {"role", "observer"}}),
+            protocol::encodeJsonMessage(MessageType::Hello,
+                                        QJsonObject{{"protocol", 1}, {"role", "observer"}, {nasty, 1}}),
+            protocol::encodeJsonMessage(MessageType::Hello,
+                                        QJsonObject{{"protocol", 1}, {"role", "observer"}, {"encoding", nasty}}),
+            protocol::encodeJsonMessage(
+                MessageType::Hello, QJsonObject{{"protocol", 1}, {"role", "observer"}, {"name", nasty.repeated(9)}}),
+        };
+        for (const QByteArray& bytes : first) {
+            ProtocolClient client;
+            QVERIFY(client.connectTo(served.port()));
+            client.sendRaw(bytes);
+            QVERIFY(client.nextOf(MessageType::Error));
+            QVERIFY(client.waitForDisconnect());
+        }
+        // After a HELLO with a name full of them.
+        auto client =
+            join(served.port(), QJsonObject{{"protocol", 1}, {"role", "yellow"}, {"name", nasty}, {"images", "none"}});
+        QVERIFY(client);
+        const QList<QByteArray> then = {
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", nasty}, {"id", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", "step"}, {nasty, 1}}),
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", "speed"}, {"speed", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control, QJsonObject{{"command", "step"}, {"duration", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control,
+                                        QJsonObject{{"command", "place_ball"}, {"x", 0}, {"y", nasty}}),
+            protocol::encodeMessage(MessageType::Control, rawJson("{\"command\":\"\n\x1b[2J\"")),
+            protocol::encodeMessage(MessageType::Control, "{\"command\":\"\\u2028\\u0000\\ud800\"}"),
+            protocol::encodeMessage(MessageType::Voltages, "\n\x1b"),
+            protocol::encodeMessage(static_cast<MessageType>(0x0a), "\n\x1b[2J"),
+            protocol::encodeJsonMessage(MessageType::Hello, QJsonObject{{"protocol", 1}, {"name", nasty}}),
+            protocol::encodeJsonMessage(MessageType::Control, controlJson("stats", {}, 99)),
+        };
+        for (const QByteArray& bytes : then) client->sendRaw(bytes);
+        QVERIFY(client->nextOf(MessageType::Reply));
+        QVERIFY(served.log.size() > 20);
+        for (const QString& line : served.log) {
+            for (uint c : line.toUcs4()) {
+                const QChar::Category category = QChar::category(static_cast<char32_t>(c));
+                QVERIFY2(QChar::isPrint(static_cast<char32_t>(c)) && category != QChar::Separator_Line &&
+                             category != QChar::Separator_Paragraph,
+                         qPrintable(QString("U+%1 in a log line").arg(c, 4, 16, QChar('0'))));
+            }
+        }
+        // A name's "%1" is text, not a placeholder for what follows.
+        QVERIFY2(!served.log.filter("%1%2\"): ").isEmpty(), qPrintable(served.log.join('\n')));
+        QVERIFY(!served.log.filter("unknown key").isEmpty());
+        QVERIFY(!served.log.filter("unknown_command").isEmpty());
+    }
+
+    void aVoltagesFlooderDoesNotStallFrames() {
+        // A team client sends valid VOLTAGES as fast as it can (issue 12:
+        // about 1.2 M/s, and gaps of up to 3 s in everyone's frames).
+        Served served(kickoff(), RunMode::Realtime);
+        auto observer = join(served.port(), helloJson("observer", "none", "png", true));
+        QVERIFY(observer);
+        const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("yellow", "none"));
+        Flooder flooder(served.port(), hello,
+                        protocol::encodeMessage(MessageType::Voltages, protocol::encodeVoltages({{0, {5.0, 5.0}}})));
+        const Watched w = watch(served, *observer, 3000);
+        QVERIFY2(w.worstGapMs < 300, qPrintable(QString("no STATE for %1 ms").arg(w.worstGapMs)));
+        // The flood got through, coalesced: far fewer engine requests than messages.
+        std::int64_t accepted = 0;
+        for (const ClientInfo& c : served.server->clients())
+            if (c.role == "yellow") accepted = c.commands;
+        observer->sendJson(MessageType::Control, controlJson("stats"));
+        const auto reply = observer->nextOf(MessageType::Reply);
+        QVERIFY(reply);
+        const int requests =
+            jsonPayload(reply->message)["stats"].toObject()["command_latency_ms"].toObject()["count"].toInt();
+        qInfo("flooder sent %.1f MB; %lld VOLTAGES accepted, %d engine requests",
+              1e-6 * static_cast<double>(flooder.bytesSent()), static_cast<long long>(accepted), requests);
+        QVERIFY2(requests > 0 && accepted >= 4 * requests,
+                 qPrintable(QString("%1 VOLTAGES, %2 requests").arg(accepted).arg(requests)));
+        const auto state = observer->nextOf(MessageType::State);
+        QVERIFY(state);
+        QCOMPARE(jsonPayload(state->message)["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 5.0);
     }
 };
 

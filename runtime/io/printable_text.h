@@ -6,8 +6,10 @@
 namespace vssim {
 
 // `text` with every character that is not printable (newlines, ESC, other
-// control characters) as "?", and cut to `maxCharacters` characters
-// (code points) with "..." after: safe for log lines and error messages.
+// control and format characters such as U+202E, the line and paragraph
+// separators U+2028 and U+2029) as "?", and cut to `maxCharacters`
+// characters (code points) with "..." after: safe for log lines and error
+// messages.
 QString printableText(const QString& text, int maxCharacters);
 
 }  // namespace vssim

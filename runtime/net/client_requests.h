@@ -43,4 +43,8 @@ std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Volta
 // the caller's to fill in).
 std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& scene, RequestError* error);
 
+// Whether a CONTROL request leaves the game as it is (only `stats`): what a
+// read-only observer may send.
+bool leavesTheGameAlone(const EngineRequest& request);
+
 }  // namespace vssim

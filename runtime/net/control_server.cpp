@@ -3,6 +3,7 @@
 #include <QJsonArray>
 #include <QTcpSocket>
 #include <QTimer>
+#include <deque>
 
 #include "io/scene_io.h"
 #include "realtime/monotonic_clock.h"
@@ -45,15 +46,25 @@ struct ControlServer::Client {
     QString peer;
     protocol::MessageReader reader{protocol::kMaxClientMessage};
     bool greeted = false;
-    bool closing = false;
+    bool closing = false;                            // dropped or disconnected: nothing more is read or sent
+    bool turnQueued = false;                         // a turn to handle the rest of its input is queued
+    std::vector<std::pair<int, Voltages>> voltages;  // this turn's VOLTAGES, the newest per robot
     Hello hello;
     QTimer* helloTimer = nullptr;
     QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
+    // Other messages (REPLY, ERROR) queued while a frame waits, in order: the
+    // ones produced before it (whose own frames were dropped) and after it.
+    QByteArray heldBefore, heldAfter;
     std::int64_t pendingInstantNs = 0;
     std::int64_t framesDropped = 0;
     int errorsLogged = 0;
+    std::int64_t errorWindowStartNs = 0;  // monotonicNs() of the current error window's first error
+    int errorsInWindow = 0;
+    std::int64_t errorsNotSent = 0;
     std::shared_ptr<std::atomic<int>> queued = std::make_shared<std::atomic<int>>(0);  // requests in the engine's queue
     bool statsPending = false;   // one `stats` at a time per client (each sorts thousands of samples)
+    std::deque<double> steps;    // durations of its `step` requests not answered yet, s, oldest first
+    double stepSeconds = 0.0;    // their sum, s
     bool robotsStopped = false;  // its team's robots got 0 V when it was dropped
     std::int64_t commands = 0;   // VOLTAGES accepted
     std::int64_t framesSent = 0;
@@ -74,7 +85,9 @@ std::vector<ClientInfo> ControlServer::clients() const {
         info.commands = c->commands;
         info.framesSent = c->framesSent;
         info.framesDropped = c->framesDropped;
-        info.unsentBytes = c->socket->bytesToWrite() + c->pendingFrame.size() + c->pendingState.size();
+        info.unsentBytes = unsent(*c) + c->pendingFrame.size() + c->pendingState.size();
+        info.errorsNotSent = c->errorsNotSent;
+        info.unreadBytes = c->socket->bytesAvailable() + static_cast<qint64>(c->reader.buffered());
         info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
         out.push_back(info);
     }
@@ -114,14 +127,17 @@ bool ControlServer::listen(QString* error) {
 }
 
 void ControlServer::log(const Client& client, const QString& text) {
-    emit logLine(QStringLiteral("client %1 (%2%3): %4")
-                     .arg(client.id)
-                     .arg(client.peer)
-                     .arg(client.greeted
-                              ? QStringLiteral(", ") + roleName(client.hello.role) +
-                                    (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
-                              : QString())
-                     .arg(text));
+    const QString who = client.greeted
+                            ? QStringLiteral(", ") + roleName(client.hello.role) +
+                                  (client.hello.name.isEmpty() ? QString() : " \"" + client.hello.name + "\"")
+                            : QString();
+    // In one pass (a "%1" in a client's name stays as it is), and printable
+    // as a whole: the parts are checked where they come from (names, keys
+    // and commands are made printable when parsed), and whatever a later
+    // message may carry, a client cannot start a line of its own in the log.
+    emit logLine(
+        printableText(QStringLiteral("client %1 (%2%3): %4").arg(QString::number(client.id), client.peer, who, text),
+                      kMaxLogLineCharacters));
 }
 
 void ControlServer::accept() {
@@ -131,6 +147,9 @@ void ControlServer::accept() {
         client->socket = socket;
         // Small messages (replies, STATE) go out at once: no Nagle delay.
         socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
+        // Qt reads no further ahead than this: a client that sends faster than
+        // its turns take is slowed down by TCP instead of filling our memory.
+        socket->setReadBufferSize(kReadAheadBytes);
         client->peer = QStringLiteral("%1:%2").arg(socket->peerAddress().toString()).arg(socket->peerPort());
         client->connectedNs = monotonicNs();
         Client& c = *client;
@@ -139,13 +158,21 @@ void ControlServer::accept() {
         log(c, "connected");
         connect(socket, &QTcpSocket::readyRead, this, [this, id] {
             auto it = clients_.find(id);
-            if (it != clients_.end()) readFrom(*it->second);
+            if (it != clients_.end() && !it->second->turnQueued) serveTurn(*it->second);
         });
         connect(socket, &QTcpSocket::bytesWritten, this, [this, id] {
             auto it = clients_.find(id);
             if (it != clients_.end()) flushPending(*it->second);
         });
-        connect(socket, &QTcpSocket::disconnected, this, [this, id] { forget(id); });
+        // The client goes from the event loop, never from inside a loop over
+        // the clients (a failed write can close a socket there); until then
+        // nothing more is read from it or sent to it.
+        connect(socket, &QTcpSocket::disconnected, this, [this, id] {
+            auto it = clients_.find(id);
+            if (it != clients_.end()) it->second->closing = true;
+            QMetaObject::invokeMethod(
+                this, [this, id] { forget(id); }, Qt::QueuedConnection);
+        });
         c.helloTimer = new QTimer(socket);
         c.helloTimer->setSingleShot(true);
         connect(c.helloTimer, &QTimer::timeout, this, [this, id] {
@@ -157,35 +184,103 @@ void ControlServer::accept() {
                           true);
         });
         c.helloTimer->start(settings_.helloTimeoutMs);
-        if (static_cast<int>(clients_.size()) > settings_.maxClients)
-            sendError(
-                c,
-                {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)},
-                true);
+        makeRoomFor(c);
     }
 }
 
-void ControlServer::readFrom(Client& client) {
+void ControlServer::makeRoomFor(Client& newcomer) {
+    int open = 0;
+    for (const auto& [id, client] : clients_) open += client->closing ? 0 : 1;
+    if (open <= settings_.maxClients) return;
+    // Connections that never say HELLO must not lock real clients out: the
+    // oldest of them goes, preferably one that has sent nothing at all (a
+    // client whose HELLO is on its way has). Only when every connection has
+    // said HELLO is the newcomer refused.
+    Client* silent = nullptr;
+    Client* ungreeted = nullptr;
+    for (const auto& [id, client] : clients_) {
+        if (client.get() == &newcomer || client->greeted || client->closing) continue;
+        if (!ungreeted) ungreeted = client.get();
+        if (!silent && client->socket->bytesAvailable() == 0 && client->reader.buffered() == 0) silent = client.get();
+    }
+    if (Client* oldest = silent ? silent : ungreeted)
+        return sendError(
+            *oldest,
+            {"too_many_clients", QStringLiteral("the server is full (%1 connections) and this one has not said HELLO: "
+                                                "closed to make room for a new one")
+                                     .arg(settings_.maxClients)},
+            true);
+    sendError(newcomer,
+              {"too_many_clients", QStringLiteral("the server takes at most %1 clients").arg(settings_.maxClients)},
+              true);
+}
+
+void ControlServer::serveTurn(Client& client) {
+    // One stamp per turn: a message that waited for its turn arrives, for the
+    // engine, when the server gets to it.
     const std::int64_t arrivalNs = monotonicNs();
-    client.reader.append(client.socket->readAll());
     protocol::Message message;
     std::uint32_t length = 0;
+    int messages = 0;
+    qint64 bytes = 0;
+    bool more = false;  // the turn ended with its budget spent, maybe with input left
     while (!client.closing) {
-        switch (client.reader.next(&message, &length)) {
-            case protocol::MessageReader::Status::NeedMore: return;
-            case protocol::MessageReader::Status::Oversize:
-                sendError(client,
-                          {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
-                                           .arg(length)
-                                           .arg(protocol::kMaxClientMessage)},
-                          true);
-                return;
-            case protocol::MessageReader::Status::Empty:
-                sendError(client, {"malformed", "message length 0 (a message has at least its type byte)"}, true);
-                return;
-            case protocol::MessageReader::Status::Message: handle(client, message, arrivalNs); break;
+        if (messages == kMaxMessagesPerTurn || bytes >= kMaxBytesPerTurn) {
+            more = true;
+            break;
         }
+        const protocol::MessageReader::Status status = client.reader.next(&message, &length);
+        if (status == protocol::MessageReader::Status::NeedMore) {
+            if (client.socket->bytesAvailable() == 0) break;  // the next readyRead starts a turn
+            client.reader.append(client.socket->read(kReadAheadBytes));
+            continue;
+        }
+        if (status == protocol::MessageReader::Status::Oversize) {
+            sendError(client,
+                      {"oversize", QStringLiteral("message length %1 exceeds the limit of %2 bytes")
+                                       .arg(length)
+                                       .arg(protocol::kMaxClientMessage)},
+                      true);
+            break;
+        }
+        if (status == protocol::MessageReader::Status::Empty) {
+            sendError(client, {"malformed", "message length 0 (a message has at least its type byte)"}, true);
+            break;
+        }
+        ++messages;
+        bytes += 4 + static_cast<qint64>(length);
+        handle(client, message, arrivalNs);
     }
+    flushVoltages(client, arrivalNs);
+    if (!more || client.closing) return;
+    // The rest waits behind what is queued now: other clients' turns and the engine's frames.
+    client.turnQueued = true;
+    QMetaObject::invokeMethod(
+        this,
+        [this, id = client.id] {
+            auto it = clients_.find(id);
+            if (it == clients_.end()) return;
+            it->second->turnQueued = false;
+            serveTurn(*it->second);
+        },
+        Qt::QueuedConnection);
+}
+
+void ControlServer::flushVoltages(Client& client, std::int64_t arrivalNs) {
+    if (client.voltages.empty()) return;
+    EngineRequest request;
+    request.kind = EngineRequest::Kind::Voltages;
+    request.arrivalNs = arrivalNs;
+    request.client = client.id;
+    request.voltages.swap(client.voltages);
+    // A dropped team client's robots have been stopped: its last voltages must not restart them.
+    if (client.closing) return;
+    if (!post(client, std::move(request)))
+        sendError(client,
+                  {"busy",
+                   QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
+                       .arg(kMaxQueuedPerClient)},
+                  false);
 }
 
 void ControlServer::handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs) {
@@ -212,27 +307,7 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
         case MessageType::Hello:
             sendError(client, {"malformed", "HELLO again: a client says HELLO once"}, false);
             return;
-        case MessageType::Voltages: {
-            QString layoutError;
-            const auto entries = protocol::decodeVoltages(message.payload, &layoutError);
-            if (!entries) return sendError(client, {"malformed", layoutError}, false);
-            if (const auto error = checkVoltages(*entries, scene_, client.hello.role))
-                return sendError(client, *error, false);
-            EngineRequest request;
-            request.kind = EngineRequest::Kind::Voltages;
-            request.arrivalNs = arrivalNs;
-            request.client = client.id;
-            request.voltages = *entries;
-            ++client.commands;
-            if (!post(client, std::move(request)))
-                sendError(
-                    client,
-                    {"busy", QStringLiteral(
-                                 "more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
-                                 .arg(kMaxQueuedPerClient)},
-                    false);
-            return;
-        }
+        case MessageType::Voltages: return handleVoltages(client, message);
         case MessageType::Control: {
             QString jsonError;
             const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
@@ -240,12 +315,29 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             RequestError error;
             std::optional<EngineRequest> request = parseControl(*json, scene_, &error);
             if (!request) return sendError(client, error, false, json->value("id"));
+            if (settings_.readOnlyObservers && client.hello.role == ClientRole::Observer &&
+                !leavesTheGameAlone(*request))
+                return sendError(client,
+                                 {"read_only", QStringLiteral("CONTROL %1: observers are read-only on this server; an "
+                                                              "observer may only ask for stats")
+                                                   .arg(request->command)},
+                                 false, json->value("id"));
+            flushVoltages(client, arrivalNs);  // the turn's VOLTAGES before it, as they came
             request->arrivalNs = arrivalNs;
             request->client = client.id;
             request->id = json->value("id");
             const bool stats = request->kind == EngineRequest::Kind::Stats;
             if (stats && client.statsPending)
                 return sendError(client, {"busy", "CONTROL stats: the previous stats request is not answered yet"},
+                                 false, request->id);
+            // Engine time is shared: a client's steps waiting are bounded (ServerSettings).
+            const bool isStep = request->kind == EngineRequest::Kind::Step;
+            const double duration = request->duration;
+            if (isStep && client.stepSeconds + duration > settings_.maxQueuedStepSeconds)
+                return sendError(client,
+                                 {"busy", QStringLiteral("CONTROL step: this client's steps waiting for the engine "
+                                                         "would add up to more than %1 s of simulated time")
+                                              .arg(settings_.maxQueuedStepSeconds)},
                                  false, request->id);
             if (!post(client, std::move(*request)))
                 return sendError(
@@ -255,6 +347,10 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
                                  .arg(kMaxQueuedPerClient)},
                     false, json->value("id"));
             if (stats) client.statsPending = true;
+            if (isStep) {
+                client.steps.push_back(duration);
+                client.stepSeconds += duration;
+            }
             return;
         }
         default:
@@ -263,6 +359,25 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
                                            .arg(message.type, 2, 16, QChar('0'))
                                            .arg(message.payload.size())},
                       false);
+    }
+}
+
+void ControlServer::handleVoltages(Client& client, const protocol::Message& message) {
+    QString layoutError;
+    const auto entries = protocol::decodeVoltages(message.payload, &layoutError);
+    if (!entries) return sendError(client, {"malformed", layoutError}, false);
+    if (const auto error = checkVoltages(*entries, scene_, client.hello.role)) return sendError(client, *error, false);
+    ++client.commands;
+    // Merged into the turn's one request: the turn's messages share one
+    // arrival instant, at which the engine would apply them one after the
+    // other, so each robot's newest voltages are all that counts.
+    for (const auto& [robot, volts] : *entries) {
+        auto it = std::find_if(client.voltages.begin(), client.voltages.end(),
+                               [robot = robot](const auto& entry) { return entry.first == robot; });
+        if (it != client.voltages.end())
+            it->second = volts;
+        else
+            client.voltages.emplace_back(robot, volts);
     }
 }
 
@@ -360,6 +475,32 @@ QJsonObject ControlServer::welcome(const Client& client) const {
 
 void ControlServer::sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
     if (client.closing) return;
+    // A fatal error always goes (the connection closes after it).
+    if (fatal || errorAllowed(client)) writeError(client, error, fatal, id);
+}
+
+bool ControlServer::errorAllowed(Client& client) {
+    const std::int64_t nowNs = monotonicNs();
+    if (client.errorsInWindow == 0 || nowNs - client.errorWindowStartNs >= kErrorWindowNs) {
+        client.errorWindowStartNs = nowNs;
+        client.errorsInWindow = 0;
+    }
+    if (++client.errorsInWindow <= kMaxErrorsPerWindow) return true;
+    ++client.errorsNotSent;
+    if (client.errorsInWindow == kMaxErrorsPerWindow + 1) {
+        const double secondsLeft = 1e-9 * static_cast<double>(client.errorWindowStartNs + kErrorWindowNs - nowNs);
+        writeError(client,
+                   {"too_many_errors",
+                    QStringLiteral("too many errors (%1 in %2 s): further ones are not reported for the next %3 s")
+                        .arg(kMaxErrorsPerWindow)
+                        .arg(kErrorWindowNs / 1'000'000'000)
+                        .arg(secondsLeft, 0, 'f', 1)},
+                   false, QJsonValue());
+    }
+    return false;
+}
+
+void ControlServer::writeError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
     if (client.errorsLogged < 20) {
         log(client,
             QStringLiteral("%1 error %2: %3").arg(fatal ? "fatal" : "").arg(error.code, error.message).trimmed());
@@ -375,12 +516,66 @@ void ControlServer::sendError(Client& client, const RequestError& error, bool fa
 
 void ControlServer::send(Client& client, const QByteArray& bytes) {
     if (client.closing) return;
-    if (client.socket->bytesToWrite() + bytes.size() > settings_.maxUnsentBytes) {
-        drop(client, QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)")
-                         .arg(settings_.maxUnsentBytes >> 20));
+    // Messages keep their order: behind a frame that waits, they wait too
+    // (protocol.md: a step's FRAME comes before its REPLY).
+    if (waiting(client)) {
+        if (fits(client, bytes.size())) client.heldAfter += bytes;
         return;
     }
-    client.socket->write(bytes);
+    if (fits(client, bytes.size())) client.socket->write(bytes);
+}
+
+bool ControlServer::waiting(const Client& client) {
+    return !client.pendingFrame.isEmpty() || !client.pendingState.isEmpty();
+}
+
+bool ControlServer::fits(Client& client, qint64 bytes) {
+    if (unsent(client) + bytes > settings_.maxUnsentBytes) {
+        drop(client,
+             QStringLiteral("disconnected: more than %1 MiB unsent (the client is not reading)")
+                 .arg(static_cast<double>(settings_.maxUnsentBytes) / (1 << 20)),
+             true);
+        return false;
+    }
+    return makeRoom(client, bytes);
+}
+
+qint64 ControlServer::unsent(const Client& client) const {
+    // Not the frame waiting: it is the newest, which the server holds anyway,
+    // shared by every client with the same subscription.
+    return client.socket->bytesToWrite() + client.heldBefore.size() + client.heldAfter.size();
+}
+
+qint64 ControlServer::totalUnsent() const {
+    qint64 total = 0;
+    for (const auto& [id, client] : clients_) total += unsent(*client);
+    return total;
+}
+
+bool ControlServer::makeRoom(Client& writer, qint64 bytes) {
+    for (;;) {
+        // Clients closing are counted (their bytes are still held) but cannot
+        // be dropped again; they hold at most kGraceBytes, for 2 s at most
+        // (one dropped here holds nothing: its bytes are discarded).
+        qint64 total = bytes, most = -1;
+        Client* furthestBehind = nullptr;
+        for (auto& [id, client] : clients_) {
+            const qint64 n = unsent(*client);
+            total += n;
+            if (!client->closing && n > most) {
+                most = n;
+                furthestBehind = client.get();
+            }
+        }
+        if (total <= settings_.maxTotalUnsentBytes || !furthestBehind) return true;
+        drop(*furthestBehind,
+             QStringLiteral("disconnected: the server holds more than %1 MiB unsent for all its clients, the most "
+                            "(%2 bytes) for this one (it is not reading)")
+                 .arg(static_cast<double>(settings_.maxTotalUnsentBytes) / (1 << 20))
+                 .arg(most),
+             true);
+        if (furthestBehind == &writer) return false;
+    }
 }
 
 bool ControlServer::lockstep() const {
@@ -389,8 +584,10 @@ bool ControlServer::lockstep() const {
 }
 
 bool ControlServer::holdsFrames(Client& client) {
-    // Lockstep: the client sets the pace and should get every frame.
-    if (lockstep()) return client.socket->bytesToWrite() > settings_.lockstepBacklogBytes;
+    // Lockstep: the client sets the pace and should get every frame, unless
+    // the server as a whole is short of room.
+    if (lockstep() && totalUnsent() <= settings_.maxTotalUnsentBytes / 2)
+        return client.socket->bytesToWrite() > settings_.lockstepBacklogBytes;
     // Real time: the kernel takes what it can now; whatever it cannot take
     // means the client is behind, and a newer frame would only wait behind it.
     if (client.socket->bytesToWrite() > 0) client.socket->flush();
@@ -398,34 +595,32 @@ bool ControlServer::holdsFrames(Client& client) {
 }
 
 void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray state, std::int64_t instantNs) {
-    if (client.closing) return;
-    if (holdsFrames(client)) {
-        if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) ++client.framesDropped;
-        client.pendingFrame = std::move(frame);
-        client.pendingState = std::move(state);
-        client.pendingInstantNs = instantNs;
-        return;
+    if (client.closing || (frame.isEmpty() && state.isEmpty())) return;
+    if (waiting(client)) {
+        // The older frame is dropped; what was queued behind it now goes before the newer one.
+        ++client.framesDropped;
+        client.heldBefore += client.heldAfter;
+        client.heldAfter.clear();
     }
-    writeInstant(client, frame, state, instantNs);
-}
-
-void ControlServer::writeInstant(Client& client, const QByteArray& frame, const QByteArray& state,
-                                 std::int64_t instantNs) {
-    if (!frame.isEmpty()) {
-        send(client, frame);
-        ++client.framesSent;
-        imageAgeMs_.add(1e-6 * static_cast<double>(monotonicNs() - instantNs));
-    }
-    if (!state.isEmpty()) send(client, state);
+    client.pendingFrame = std::move(frame);
+    client.pendingState = std::move(state);
+    client.pendingInstantNs = instantNs;
+    flushPending(client);
 }
 
 void ControlServer::flushPending(Client& client) {
-    if (client.closing || (client.pendingFrame.isEmpty() && client.pendingState.isEmpty())) return;
-    if (holdsFrames(client)) return;
-    QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
-    client.pendingFrame.clear();
-    client.pendingState.clear();
-    sendNewest(client, std::move(frame), std::move(state), client.pendingInstantNs);
+    if (client.closing || !waiting(client) || holdsFrames(client)) return;
+    const QByteArray before = std::exchange(client.heldBefore, {}), frame = std::exchange(client.pendingFrame, {}),
+                     state = std::exchange(client.pendingState, {}), after = std::exchange(client.heldAfter, {});
+    if (!fits(client, before.size() + frame.size() + state.size() + after.size())) return;
+    // One by one: Qt keeps a large QByteArray written whole as it is, shared
+    // with the other clients that get the same frame.
+    for (const QByteArray* bytes : {&before, &frame, &state, &after})
+        if (!bytes->isEmpty()) client.socket->write(*bytes);
+    if (!frame.isEmpty()) {
+        ++client.framesSent;
+        imageAgeMs_.add(1e-6 * static_cast<double>(monotonicNs() - client.pendingInstantNs));
+    }
 }
 
 void ControlServer::drainEngine() {
@@ -446,13 +641,11 @@ void ControlServer::drainEngine() {
             if (it == clients_.end()) continue;
             Client& client = *it->second;
             if (r.stats) client.statsPending = false;
-            // A frame held back for a slow reader is older than this reply:
-            // it goes first (protocol.md: a step's FRAME comes before its REPLY).
-            if (!client.pendingFrame.isEmpty() || !client.pendingState.isEmpty()) {
-                QByteArray frame = std::move(client.pendingFrame), state = std::move(client.pendingState);
-                client.pendingFrame.clear();
-                client.pendingState.clear();
-                writeInstant(client, frame, state, client.pendingInstantNs);
+            if (r.command == QLatin1String("step") && !client.steps.empty()) {
+                const double done = client.steps.front();
+                client.steps.pop_front();
+                // Zero when none is left, so that rounding cannot build up.
+                client.stepSeconds = client.steps.empty() ? 0.0 : client.stepSeconds - done;
             }
             if (!r.ok) {
                 sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
@@ -487,16 +680,25 @@ void ControlServer::updateSubscriptions() {
     engine_.setSubscriptions(images, state);
 }
 
-void ControlServer::drop(Client& client, const QString& why) {
+void ControlServer::drop(Client& client, const QString& why, bool now) {
     if (client.closing) return;
     log(client, why);
     client.closing = true;
-    stopRobots(client);                   // now, as its role is free from now on
+    // What waited behind a frame (its last ERROR among it) is written, the frame not.
+    if (!now && !client.heldBefore.isEmpty()) client.socket->write(client.heldBefore);
+    if (!now && !client.heldAfter.isEmpty()) client.socket->write(client.heldAfter);
+    client.pendingFrame.clear();
+    client.pendingState.clear();
+    client.heldBefore.clear();
+    client.heldAfter.clear();
+    stopRobots(client);  // now, as its role is free from now on
+    updateSubscriptions();
+    // One that does not read would never take its last ERROR: its memory goes now.
+    if (now || client.socket->bytesToWrite() > kGraceBytes) return client.socket->abort();
     client.socket->disconnectFromHost();  // after the unsent bytes (the error reply) are written
     // A client that never reads would keep the connection open: close hard
     // after a grace period.
     QTimer::singleShot(2000, client.socket, [socket = client.socket] { socket->abort(); });
-    updateSubscriptions();
 }
 
 void ControlServer::stopRobots(Client& client) {

@@ -5,8 +5,24 @@
 // is never late: in real time a client gets a new frame only once the socket
 // has taken the previous one (the newest waits, older ones are dropped), and
 // its socket's send buffer is kept small; in lockstep, where the client sets
-// the pace, frames queue up to lockstepBacklogBytes. A client that lets more
-// than maxUnsentBytes pile up is disconnected.
+// the pace, frames queue up to lockstepBacklogBytes. REPLY and ERROR
+// messages are never dropped and keep their order with the frames: behind a
+// frame that waits, they wait too. What waits unsent is bounded: a client
+// that lets more than maxUnsentBytes pile up, or the one with the most
+// unsent when all together hold more than maxTotalUnsentBytes, is
+// disconnected; above half of that, frames wait for every client whose
+// socket has not taken the previous one, lockstep or not. ERROR replies are
+// rationed (kMaxErrorsPerWindow): a client that sends nothing but mistakes
+// and never reads would otherwise turn each 6-byte message into a 100-byte
+// reply kept for it.
+//
+// Clients are served fairly: each gets a turn of at most kMaxMessagesPerTurn
+// messages (kMaxBytesPerTurn bytes) when its socket has data, and the rest
+// waits for its next turn, queued behind the other clients' turns and the
+// engine's frames; what the server has not read yet stays in the kernel
+// (beyond kReadAheadBytes), so TCP slows a sender the server cannot keep up
+// with. A turn's VOLTAGES reach the engine as one request, the newest per
+// robot.
 #pragma once
 
 #include <QHostAddress>
@@ -29,12 +45,21 @@ namespace vssim {
 
 struct ServerSettings {
     QHostAddress address = QHostAddress::LocalHost;
-    quint16 port = protocol::kDefaultPort;  // 0: any free port
-    int helloTimeoutMs = 5000;              // a client must say HELLO within this
-    qint64 lockstepBacklogBytes = 1 << 20;  // lockstep: unsent bytes above which new frames wait (newest kept)
-    int realtimeSendBufferBytes = 16 << 10; // real time: the kernel's send buffer for subscribers (SO_SNDBUF)
-    qint64 maxUnsentBytes = 64 << 20;       // unsent bytes above which a client is disconnected
+    quint16 port = protocol::kDefaultPort;   // 0: any free port
+    int helloTimeoutMs = 5000;               // a client must say HELLO within this
+    qint64 lockstepBacklogBytes = 1 << 20;   // lockstep: unsent bytes above which new frames wait (newest kept)
+    int realtimeSendBufferBytes = 16 << 10;  // real time: the kernel's send buffer for subscribers (SO_SNDBUF)
+    qint64 maxUnsentBytes = 8 << 20;         // one client's unsent bytes above which it is disconnected
+    qint64 maxTotalUnsentBytes = 64 << 20;   // all clients' together: above, the one with the most is disconnected
     int maxClients = 64;
+    // Observers may only watch and ask for `stats`: commands that change the
+    // game (pause, step, reset, placing bodies, speed) get ERROR read_only.
+    // For matches, where only the teams (or the person at the app) decide.
+    bool readOnlyObservers = false;
+    // Simulated seconds of `step` one client may have waiting for the engine
+    // (more gets `busy`): the engine does a step at once, and an hour of
+    // simulated time costs it seconds, during which no one else is served.
+    double maxQueuedStepSeconds = kMaxStepDuration;
 };
 
 // One connected client, for a connections panel.
@@ -47,12 +72,30 @@ struct ClientInfo {
     QString images;  // e.g. "patches/png", or "none"
     bool state = false;
     std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
-    qint64 unsentBytes = 0;  // written for it and not yet taken by the kernel, plus the frame waiting
+    qint64 unsentBytes = 0;          // written for it and not yet taken by the kernel, plus what waits
+    qint64 unreadBytes = 0;          // received from it and not handled yet (the rest waits in the kernel)
+    std::int64_t errorsNotSent = 0;  // ERROR replies withheld: more than kMaxErrorsPerWindow
     double connectedSeconds = 0.0;
 };
 
+// A log line is cut here (its client-given parts are cut to 40 or 64 characters long before).
+constexpr int kMaxLogLineCharacters = 1000;
 // Requests one client may have waiting for the engine (a flood gets `busy`).
 constexpr int kMaxQueuedPerClient = 500;
+// One client's turn: this many messages or bytes at most (at least one message),
+// so that a few microseconds per message keep a turn well under a millisecond.
+constexpr int kMaxMessagesPerTurn = 64;
+constexpr qint64 kMaxBytesPerTurn = 64 << 10;
+// Bytes Qt reads ahead from one client's socket; more waits in the kernel.
+constexpr qint64 kReadAheadBytes = 64 << 10;
+// ERROR replies one client gets in a window (fixed, from its first error):
+// plenty to debug with, and beyond them one ERROR too_many_errors says that
+// the rest of the window's are not sent (their messages are still refused).
+constexpr int kMaxErrorsPerWindow = 100;
+constexpr std::int64_t kErrorWindowNs = 10'000'000'000;
+// A client dropped after a fatal error with more unsent than this is not
+// reading: it is closed at once instead of being given 2 s to take its ERROR.
+constexpr qint64 kGraceBytes = 1 << 20;
 
 class ControlServer : public QObject {
     Q_OBJECT
@@ -80,17 +123,29 @@ private:
     struct Client;
 
     void accept();
-    void readFrom(Client& client);
+    void makeRoomFor(Client& newcomer);  // above maxClients: the oldest without HELLO goes, or the newcomer
+    void serveTurn(Client& client);
+    void flushVoltages(Client& client, std::int64_t arrivalNs);
     void handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs);
+    void handleVoltages(Client& client, const protocol::Message& message);
     void greet(Client& client, const QJsonObject& json);
     void sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id = QJsonValue());
-    void send(Client& client, const QByteArray& bytes);
+    bool errorAllowed(Client& client);  // within its ERROR ration (says so once when not)
+    void writeError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id);
+    void send(Client& client, const QByteArray& bytes);  // in order, behind a frame that waits
+    static bool waiting(const Client& client);           // a frame (or STATE) waits for its socket
+    bool fits(Client& client, qint64 bytes);             // within the memory limits (false: it was dropped)
+    bool makeRoom(Client& writer, qint64 bytes);         // false: the writer itself had to go
+    qint64 unsent(const Client& client) const;           // what the memory limits count
+
+    qint64 totalUnsent() const;
     void sendNewest(Client& client, QByteArray frame, QByteArray state, std::int64_t instantNs);
-    void writeInstant(Client& client, const QByteArray& frame, const QByteArray& state, std::int64_t instantNs);
     bool holdsFrames(Client& client);  // whether a new frame must wait for this client's socket
     bool lockstep() const;
     void flushPending(Client& client);
-    void drop(Client& client, const QString& why);
+    // Closes a client's connection: after its unsent bytes (a last ERROR) are
+    // written, or `now`, discarding them (it is not reading).
+    void drop(Client& client, const QString& why, bool now = false);
     void forget(int id);
     void stopRobots(Client& client);                   // 0 V to a team client's robots, once
     bool post(Client& client, EngineRequest request);  // false: its quota or the queue is full
