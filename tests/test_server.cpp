@@ -751,6 +751,24 @@ private slots:
         QVERIFY2(age["median"].toDouble() < 30.0, qPrintable(QString::number(age["median"].toDouble())));
     }
 
+    void aHaltedSimulationIsLoggedAndRefusesToRun() {
+        // A ball of 1e-308 kg (the scene reader refuses it; a Scene made in
+        // code does not ask) goes non-finite at once: the server's log says
+        // so, and a client's resume gets ERROR non_finite.
+        Scene scene = kickoff();
+        scene.ball_params.mass = 1e-308;
+        scene.ball.vx = 1.0;
+        Served served(scene, RunMode::Realtime);
+        QTRY_VERIFY_WITH_TIMEOUT(served.log.join('\n').contains("the simulation halted: at t = "), 5000);
+        auto team = join(served.port(), helloJson("yellow", "none"));
+        QVERIFY(team);
+        team->sendJson(MessageType::Control, controlJson("resume", {}, 5));
+        const QJsonObject error = expectError(*team, "non_finite");
+        QCOMPARE(error["error"].toString(), QString("non_finite"));
+        QVERIFY2(error["message"].toString().contains("the ball"), qPrintable(error["message"].toString()));
+        QCOMPARE(error["id"].toInt(), 5);
+    }
+
     void framesKeepComingDespiteAFloodAndASleeper() {
         // One client floods commands, another never reads its (large, raw,
         // full) frames: the observer still gets every frame in order, the

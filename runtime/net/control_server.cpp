@@ -105,6 +105,15 @@ ControlServer::ControlServer(const Scene& scene, EngineThread& engine, const Ser
     : QObject(parent), scene_(scene), engine_(engine), settings_(settings), background_(scene) {
     connect(&server_, &QTcpServer::newConnection, this, &ControlServer::accept);
     connect(&engine_, &EngineThread::outboxReady, this, &ControlServer::drainEngine, Qt::QueuedConnection);
+    // A halted simulation is the server's news too: its log says why.
+    connect(
+        &engine_, &EngineThread::simulationHalted, this,
+        [this](const QString& message) {
+            emit logLine(QStringLiteral("the simulation halted: %1; clients get ERROR non_finite for step and resume "
+                                        "until a reset")
+                             .arg(printableText(message, 400)));
+        },
+        Qt::QueuedConnection);
 }
 
 ControlServer::~ControlServer() {

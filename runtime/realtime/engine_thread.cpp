@@ -198,4 +198,6 @@ void EngineThread::reply(const EngineReply& reply) {
     encoder_->submit(std::move(job));
 }
 
+void EngineThread::halted(const SimulationFault& fault, std::int64_t) { emit simulationHalted(fault.message()); }
+
 }  // namespace vssim

@@ -57,6 +57,9 @@ public:
 signals:
     // The outbox went from empty to not empty (emitted from the engine thread).
     void outboxReady();
+    // The simulation's state stopped being finite and the loop halted
+    // (engine_loop.h); `message` says when and which body (engine thread).
+    void simulationHalted(const QString& message);
 
 protected:
     void run() override;
@@ -64,6 +67,7 @@ protected:
 private:
     void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) override;
     void reply(const EngineReply& reply) override;
+    void halted(const SimulationFault& fault, std::int64_t nowNs) override;
     void push(OutboxItem item);
 
     const Scene scene_;
