@@ -46,7 +46,10 @@ int guiCommand(int argc, char** argv) {
         const QCommandLineOption listen("listen", "Address to listen on (default 127.0.0.1).", "ADDR");
         const QCommandLineOption connectTo("connect", "Watch a running vssim serve instead (as an observer).",
                                            "HOST:PORT");
-        parser.addOptions({port, listen, connectTo});
+        const QCommandLineOption readOnly("read-only-observers",
+                                          "Observers of the app's server may only watch and ask for stats "
+                                          "(docs/protocol.md, read_only).");
+        parser.addOptions({port, listen, connectTo, readOnly});
         QTextStream err(stderr);
         if (!parser.parse(args)) {
             err << "vssim gui: " << parser.errorText() << "\n";
@@ -70,6 +73,7 @@ int guiCommand(int argc, char** argv) {
             err << "vssim gui: --listen: \"" << parser.value(listen) << "\" is not an IP address\n";
             return 2;
         }
+        server.readOnlyObservers = parser.isSet(readOnly);
         connectTarget = parser.value(connectTo);
         sceneName = parser.positionalArguments().value(0, "kickoff_3v3");
         if (!displayAvailable()) {

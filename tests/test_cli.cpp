@@ -278,6 +278,7 @@ void TestCli::noArgumentsRunsTheDemo() {
     const Result help = runVssim({"gui", "--help"});
     QCOMPARE(help.exitCode, 0);
     QVERIFY(help.out.startsWith("Usage: vssim gui") && help.out.contains("--connect"));
+    QVERIFY(help.out.contains("--read-only-observers"));
     const Result bad = runVssim({"gui", "--port", "99999"});
     QCOMPARE(bad.exitCode, 2);
     QVERIFY(bad.err.contains("--port"));
