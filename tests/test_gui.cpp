@@ -6,6 +6,7 @@
 // snapshot says. VSSIM_SCREENSHOT=FILE saves the window's screenshot there.
 #include <QAction>
 #include <QComboBox>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QLabel>
@@ -363,6 +364,22 @@ private slots:
         // Something changes (a step): one more redraw.
         action(w, "action.step")->trigger();
         QTRY_VERIFY(counter.paints > 0);
+    }
+
+    void docksStayReadableOnASmallScreen() {
+        // At 1024 x 768 the right-hand docks used to shrink to a sliver; and
+        // the joystick (Drive by hand) shows together with the plots.
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.resize(1024, 768);
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        auto* robot = w.findChild<QDockWidget*>("dock.robot");
+        auto* drive = w.findChild<QDockWidget*>("dock.drive");
+        QVERIFY(robot && drive);
+        QTRY_VERIFY(robot->width() >= 300);
+        QVERIFY(robot->isVisible() && drive->isVisible());
+        QVERIFY(!w.tabifiedDockWidgets(robot).contains(drive));
+        QVERIFY(w.fieldView().width() >= 400);  // the field keeps most of the window
     }
 
     void quitClosesEveryWindow() {

@@ -188,8 +188,6 @@ void MainWindow::buildDocks() {
     camera_ = new CameraView;
     QDockWidget* cameraDock =
         dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
-    tabifyDockWidget(robotDock, cameraDock);
-    robotDock->raise();
 
     connections_ = new ConnectionsPanel;
     connections_->setMaximumHeight(170);
@@ -218,8 +216,10 @@ void MainWindow::buildDocks() {
     layout->addWidget(release);
     QDockWidget* driveDock = dock(tr("Drive by hand"), drive, Qt::RightDockWidgetArea, "dock.drive");
     // Below the robot and camera tabs, not among them: the joystick and the
-    // plots are seen together.
+    // plots are seen together. (Split first: a dock split from a tabbed one
+    // would become another tab.)
     splitDockWidget(robotDock, driveDock, Qt::Vertical);
+    tabifyDockWidget(robotDock, cameraDock);
     robotDock->raise();
     // The right-hand docks keep a readable width on a small screen (1024 x 768).
     for (QWidget* w : {static_cast<QWidget*>(robotPanel), static_cast<QWidget*>(camera_), drive}) w->setMinimumWidth(300);
