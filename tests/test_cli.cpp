@@ -74,6 +74,7 @@ private slots:
     void outKeepsHardLinks();
     void outFollowsSymbolicLinks();
     void writeFailuresExitOne();
+    void outToStandardOutputByName();
     void stopsOnANonFiniteState();
     void sceneThatIsNotAFile();
 };
@@ -442,6 +443,15 @@ void TestCli::outFollowsSymbolicLinks() {
     QCOMPARE(d.exitCode, 2);
     QVERIFY2(d.err.contains("vssim run: cannot write " + QFile::encodeName(dir.filePath("sub")) + ": Is a directory"),
              d.err.constData());
+}
+
+// /dev/stdout is a link whose text ("pipe:[123]") is no path: it is written
+// in place, through the name, like any other non-regular file.
+void TestCli::outToStandardOutputByName() {
+    const Result r = runVssim({"run", "robot_hits_ball", "--duration", "0.01", "--out", "/dev/stdout"});
+    QVERIFY2(r.exitCode == 0, r.err.constData());
+    QVERIFY(r.out.startsWith("t,body,x,y,theta"));
+    QVERIFY(r.out.count('\n') > 10);
 }
 
 void TestCli::writeFailuresExitOne() {

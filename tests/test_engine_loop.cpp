@@ -371,6 +371,32 @@ private slots:
         QCOMPARE(loop.simulation().state().voltages[0].right, 0.0);
     }
 
+    void requestsForAnotherScenesRobotsAreIgnored() {
+        // A request made for the scene being replaced (the server stopping a
+        // departed client's robots 3 to 5, the app driving robot 5) can reach
+        // a world with fewer robots: it changes nothing, and writes nowhere.
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        const std::uint64_t before = hashState(loop.simulation().state());
+        EngineRequest stop = voltages(0, 3, 0.0, 0.0);
+        stop.voltages.push_back({5, Voltages{1.0, 1.0}});
+        stop.voltages.push_back({-1, Voltages{1.0, 1.0}});
+        loop.handle(stop, 0);
+        EngineRequest manual = stop;
+        manual.kind = EngineRequest::Kind::ManualVoltages;
+        loop.handle(manual, 0);
+        EngineRequest release = control(EngineRequest::Kind::ReleaseManual);
+        release.robot = 7;
+        loop.handle(release, 0);
+        EngineRequest place = control(EngineRequest::Kind::PlaceRobot);
+        place.robot = 2;
+        loop.handle(place, 0);
+        QCOMPARE(hashState(loop.simulation().state()), before);
+        QCOMPARE(loop.control()[0].controller, RobotController::None);
+        QCOMPARE(loop.control()[1].controller, RobotController::None);
+    }
+
     void loadSceneReplacesTheWorld() {
         RecordingSink sink;
         EngineLoop loop(twoRobots(), {}, sink);

@@ -330,6 +330,16 @@ private slots:
         QVERIFY(waitFor(w, [](const Snapshot& s) { return s.time == 0.0; }));
         QTest::keyClick(&w, Qt::Key_Up, Qt::ControlModifier);
         QVERIFY(waitFor(w, [](const Snapshot& s) { return s.speed == 2.0; }));
+        // A key with Ctrl held is a shortcut's, never driving: Ctrl+D on the
+        // field with a robot selected takes nothing from its client.
+        FieldView& field = w.fieldView();
+        field.setSelectedRobot(1);
+        QTest::keyPress(&field, Qt::Key_D, Qt::ControlModifier);
+        QTest::qWait(100);
+        QTest::keyRelease(&field, Qt::Key_D, Qt::ControlModifier);
+        QCOMPARE(w.manualRobot(), -1);
+        QVERIFY(w.session().latest()->control[1].controller != RobotController::Manual);
+        field.setSelectedRobot(-1);
         // Undo names what the drag changed: a Shift-drag sets the ball's velocity.
         FieldView& view = w.fieldView();
         QTRY_VERIFY(view.snapshot() && view.snapshot()->paused);

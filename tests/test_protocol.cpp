@@ -738,6 +738,12 @@ void TestProtocol::messagesCarryNoControlCharacters() {
     QVERIFY2(error.message.size() < 200 && error.message.contains(QString(40, 'a') + "..."), qPrintable(error.message));
     QVERIFY(!parseHello(QJsonObject{{"protocol", 1}, {"role", "yellow\r\n"}}, &error));
     QVERIFY2(clean(error.message) && error.message.contains("\"yellow??\""), qPrintable(error.message));
+    // A step is bounded in steps of dt too: with dt = 1 us, 10 s is ten million steps.
+    Scene fine = scene;
+    fine.simulation.dt = 1e-6;
+    QVERIFY(parseControl(QJsonObject{{"command", "step"}, {"duration", 3.6}}, fine, &error));
+    QVERIFY(!parseControl(QJsonObject{{"command", "step"}, {"duration", 10.0}}, fine, &error));
+    QVERIFY2(error.code == "malformed" && error.message.contains("3600000 steps"), qPrintable(error.message));
     // The value as given, not rounded to six digits.
     QVERIFY(!parseControl(QJsonObject{{"command", "step"}, {"duration", 3600.0001}}, scene, &error));
     QVERIFY2(error.message.contains("3600.0001 s"), qPrintable(error.message));

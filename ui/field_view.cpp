@@ -196,17 +196,25 @@ void FieldView::paintBodies(QPainter& p) const {
             const QColor team = ball ? qcolor(kBallColour) : qcolor(teamColour(scene.robots[i].team));
             QColor c((team.red() + 255) / 2, (team.green() + 255) / 2, (team.blue() + 255) / 2, 150);
             p.setPen(QPen(c, 0.003));
+            // Pieces between breaks; a piece of one point (refreshes far apart
+            // in simulated time: x4, max) is drawn as a dot, so fast runs
+            // leave a dotted trail rather than none.
             QPainterPath path;
-            bool gap = true;
+            std::vector<QPointF> dots;
+            int pieceLength = 0;
             for (const QPointF& point : trails_[i]) {
                 if (std::isnan(point.x())) {
-                    gap = true;
+                    if (pieceLength == 1) dots.push_back(path.currentPosition());
+                    pieceLength = 0;
                     continue;
                 }
-                gap ? path.moveTo(point) : path.lineTo(point);
-                gap = false;
+                pieceLength == 0 ? path.moveTo(point) : path.lineTo(point);
+                ++pieceLength;
             }
+            if (pieceLength == 1) dots.push_back(path.currentPosition());
             p.drawPath(path);
+            p.setPen(QPen(c, 0.008, Qt::SolidLine, Qt::RoundCap));
+            for (const QPointF& dot : dots) p.drawPoint(dot);
         }
     }
     for (std::size_t i = 0; i < s.robots.size() && i < scene.robots.size(); ++i) {
@@ -448,6 +456,11 @@ void FieldView::wheelEvent(QWheelEvent* event) {
 
 void FieldView::keyPressEvent(QKeyEvent* event) {
     if (event->isAutoRepeat()) return;
+    // Ctrl+Right (a disabled Step), Ctrl+S, ...: a shortcut meant, not driving.
+    if (event->modifiers() & (Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier)) {
+        event->ignore();
+        return;
+    }
     emit keyChanged(event->key(), true);
 }
 

@@ -258,9 +258,12 @@ void MainWindow::buildActions() {
     updateRecentMenu();
     // (QKeySequence::SaveAs has no key on X11: the shortcut is spelled out.)
     file->addAction(tr("&Save scene as..."), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S), this, [this] {
-        const QString path = QFileDialog::getSaveFileName(this, tr("Save scene (bodies where they are now)"), QString(),
-                                                          tr("Scenes (*.json)"));
-        if (path.isEmpty()) return;
+        // The dialog adds ".json" before it asks about overwriting an existing file.
+        QFileDialog dialog(this, tr("Save scene (bodies where they are now)"), QString(), tr("Scenes (*.json)"));
+        dialog.setAcceptMode(QFileDialog::AcceptSave);
+        dialog.setDefaultSuffix(QStringLiteral("json"));
+        if (dialog.exec() != QDialog::Accepted || dialog.selectedFiles().isEmpty()) return;
+        const QString path = dialog.selectedFiles().first();
         QString error;
         if (!saveScene(path, &error)) QMessageBox::warning(this, tr("Save scene"), error);
     });
@@ -452,6 +455,7 @@ bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
         return false;
     }
     releaseManual();
+    field_->setSelectedRobot(-1);  // the old scene's robot
     // Paused at t = 0, so the person sees the scene begin (Space plays it);
     // the rest follows in refresh(), from the snapshots.
     session_->loadScene(*scene, true);
@@ -518,6 +522,7 @@ void MainWindow::onKey(int key, bool pressed) {
     if (!keyboard_.handleKey(key, pressed)) return;
     const int selected = field_->selectedRobot();
     if (manualRobot_ < 0 && selected >= 0 && keyboard_.active()) manualRobot_ = selected;
+    if (manualRobot_ >= static_cast<int>(session_->scene().robots.size())) manualRobot_ = -1;  // a scene just replaced
     if (manualRobot_ >= 0) {
         const double max = session_->scene().robots[manualRobot_].params.max_voltage;
         sendManual(keyboard_.voltages(max));
@@ -529,6 +534,7 @@ void MainWindow::onStick(double x, double y, bool fromGamepad) {
     const int selected = field_->selectedRobot();
     stickActive_ = std::abs(x) > 0.05 || std::abs(y) > 0.05;
     if (manualRobot_ < 0 && selected >= 0 && stickActive_) manualRobot_ = selected;
+    if (manualRobot_ >= static_cast<int>(session_->scene().robots.size())) manualRobot_ = -1;  // a scene just replaced
     if (manualRobot_ < 0) return;
     const double max = session_->scene().robots[manualRobot_].params.max_voltage;
     stickVolts_ =

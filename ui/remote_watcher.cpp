@@ -70,6 +70,7 @@ std::optional<Snapshot> snapshotFromState(const QJsonObject& state, std::shared_
 }
 
 bool RemoteWatcher::connectTo(const QString& host, quint16 port, QString* error, int timeoutMs) {
+    latest_.reset();  // nothing of a previous connection is shown as the server's present
     address_ = QStringLiteral("%1:%2").arg(host).arg(port);
     host_ = host;
     port_ = port;

@@ -24,6 +24,9 @@ public:
     // The same server again (it restarted); false while it is not back.
     bool reconnect(QString* error, int timeoutMs = 1000) { return connectTo(host_, port_, error, timeoutMs); }
     std::shared_ptr<const Snapshot> latest() const { return latest_; }
+    // As the server last said (WELCOME, and the replies to pause and resume).
+    bool paused() const { return paused_; }
+    RunMode mode() const { return mode_; }
     bool connected() const;
     QString address() const { return address_; }
     // CONTROL messages; `args` as in docs/protocol.md.

@@ -1,5 +1,6 @@
 #include "remote_window.h"
 
+#include <QCloseEvent>
 #include <QDockWidget>
 #include <QLabel>
 #include <QSplitter>
@@ -53,7 +54,15 @@ RemoteWindow::RemoteWindow(RemoteWatcher* watcher, QWidget* parent) : QMainWindo
     });
     connect(&reconnect_, &QTimer::timeout, this, [this] {
         QString error;
-        if (!watcher_->reconnect(&error, 500)) return;
+        // The attempt runs a nested event loop: a close meanwhile waits for it (closeEvent).
+        reconnecting_ = true;
+        const bool connected = watcher_->reconnect(&error, 500);
+        reconnecting_ = false;
+        if (closeWhenDone_) {
+            close();
+            return;
+        }
+        if (!connected) return;
         reconnect_.stop();
         plots_->clear();
         statusBar()->showMessage(tr("connected to %1 again").arg(watcher_->address()), 5000);
@@ -73,12 +82,25 @@ void RemoteWindow::refresh() {
     const int selected = field_->selectedRobot();
     inspector_->showRobot(*snapshot, selected);
     // Step works on a paused or lockstep server only (protocol.md, CONTROL step).
-    step_->setEnabled(watcher_->connected() && (snapshot->paused || snapshot->mode == RunMode::Lockstep));
+    step_->setEnabled(watcher_->connected() && (watcher_->paused() || watcher_->mode() == RunMode::Lockstep));
     if (selected >= 0) plots_->addSample(*snapshot, selected);
     status_->setText(tr("watching %1   t = %2 s   frame %3")
                          .arg(watcher_->address())
                          .arg(snapshot->time, 0, 'f', 3)
                          .arg(snapshot->frame));
+}
+
+void RemoteWindow::closeEvent(QCloseEvent* event) {
+    // Deleted while a reconnection attempt's nested event loop runs, the
+    // window would return into freed objects: it hides now and closes after.
+    if (reconnecting_) {
+        closeWhenDone_ = true;
+        hide();
+        event->ignore();
+        return;
+    }
+    reconnect_.stop();
+    event->accept();
 }
 
 }  // namespace vssim

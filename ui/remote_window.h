@@ -25,6 +25,9 @@ public:
     FieldView& fieldView() { return *field_; }
     RemoteWatcher& watcher() { return *watcher_; }
 
+protected:
+    void closeEvent(QCloseEvent* event) override;
+
 private:
     void refresh();
     RemoteWatcher* watcher_;
@@ -33,6 +36,8 @@ private:
     LivePlots* plots_;
     QTimer timer_;
     QTimer reconnect_;  // runs while the server is gone
+    bool reconnecting_ = false;  // an attempt (with its nested event loop) is under way
+    bool closeWhenDone_ = false;  // closed during an attempt: close once it returns
     QLabel* status_ = nullptr;
     QAction* step_ = nullptr;
 };

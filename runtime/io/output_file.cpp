@@ -53,9 +53,23 @@ std::unique_ptr<OutputFile> OutputFile::open(const QString& path, QString* error
         *error = QStringLiteral("%1: %2%3").arg(path, what, reason(errorNumber));
         return nullptr;
     };
+    // What the path leads to, as the kernel follows it (also /dev/stdout and
+    // /proc/self/fd/N, whose link text is no path): anything but a regular
+    // file with one link is written in place, through the path as given.
+    const QByteArray given = QFile::encodeName(path);
+    struct stat leads;
+    if (::stat(given.constData(), &leads) == 0 && !S_ISDIR(leads.st_mode) &&
+        !(S_ISREG(leads.st_mode) && leads.st_nlink == 1)) {
+        if (::access(given.constData(), W_OK) != 0) return fail(errno);
+        const int fd = ::open(given.constData(), O_WRONLY | O_TRUNC | O_CLOEXEC | O_NOCTTY);
+        if (fd < 0) return fail(errno);
+        std::unique_ptr<OutputFile> file(new OutputFile(fd, true, path));
+        file->target_ = given;
+        return file;
+    }
     QByteArray target;
     int errorNumber = 0;
-    if (!followLinks(QFile::encodeName(path), &target, &errorNumber)) return fail(errorNumber);
+    if (!followLinks(given, &target, &errorNumber)) return fail(errorNumber);
     struct stat st;
     const bool exists = ::stat(target.constData(), &st) == 0;
     if (!exists && errno != ENOENT) return fail(errno);

@@ -234,6 +234,15 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
                              .arg(kMaxStepDuration));
             return failed();
         }
+        // In whole steps, as the engine counts them (3.6 s at 1 us is 3,600,000).
+        if (static_cast<double>(Simulation::stepIndexAtOrAfter(r.duration, scene.simulation.dt)) > kMaxStepSteps) {
+            in.malformed(QStringLiteral("\"duration\" is %1 s, %2 steps of dt = %3 s; at most %4 steps at once")
+                             .arg(QString::number(r.duration, 'g', QLocale::FloatingPointShortest))
+                             .arg(r.duration / scene.simulation.dt, 0, 'g', 6)
+                             .arg(scene.simulation.dt)
+                             .arg(kMaxStepSteps, 0, 'f', 0));
+            return failed();
+        }
     } else if (r.command == "place_robot") {
         r.kind = Kind::PlaceRobot;
         RobotState& p = r.robotPose;

@@ -95,10 +95,12 @@ std::vector<ClientInfo> ControlServer::clients() const {
 }
 
 void ControlServer::setScene(const Scene& scene) {
-    scene_ = scene;
-    background_ = CameraRenderer(scene);
+    // The clients go first, while scene_ is still the one the engine runs:
+    // their robots are stopped by index in that scene, not in the new one.
     for (auto& [id, client] : clients_)
         sendError(*client, {"scene_changed", "the server loaded another scene: connect again"}, true);
+    scene_ = scene;
+    background_ = CameraRenderer(scene);
 }
 
 ControlServer::ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent)
@@ -178,7 +180,11 @@ void ControlServer::accept() {
         // nothing more is read from it or sent to it.
         connect(socket, &QTcpSocket::disconnected, this, [this, id] {
             auto it = clients_.find(id);
-            if (it != clients_.end()) it->second->closing = true;
+            if (it != clients_.end()) {
+                // Its robots stop now, before a successor of the same team can say HELLO.
+                stopRobots(*it->second);
+                it->second->closing = true;
+            }
             QMetaObject::invokeMethod(
                 this, [this, id] { forget(id); }, Qt::QueuedConnection);
         });
@@ -342,11 +348,13 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             // Engine time is shared: a client's steps waiting are bounded (ServerSettings).
             const bool isStep = request->kind == EngineRequest::Kind::Step;
             const double duration = request->duration;
-            if (isStep && client.stepSeconds + duration > settings_.maxQueuedStepSeconds)
+            // In seconds and in steps of dt (a tiny dt makes a second millions of steps).
+            const double budget = std::min(settings_.maxQueuedStepSeconds, kMaxStepSteps * scene_.simulation.dt);
+            if (isStep && client.stepSeconds + duration > budget)
                 return sendError(client,
                                  {"busy", QStringLiteral("CONTROL step: this client's steps waiting for the engine "
                                                          "would add up to more than %1 s of simulated time")
-                                              .arg(settings_.maxQueuedStepSeconds)},
+                                              .arg(budget)},
                                  false, request->id);
             if (!post(client, std::move(*request)))
                 return sendError(
@@ -566,7 +574,7 @@ bool ControlServer::makeRoom(Client& writer, qint64 bytes) {
         // Clients closing are counted (their bytes are still held) but cannot
         // be dropped again; they hold at most kGraceBytes, for 2 s at most
         // (one dropped here holds nothing: its bytes are discarded).
-        qint64 total = bytes, most = -1;
+        qint64 total = bytes, most = 0;  // a client with nothing unsent is never the one dropped
         Client* furthestBehind = nullptr;
         for (auto& [id, client] : clients_) {
             const qint64 n = unsent(*client);

@@ -127,7 +127,7 @@ void EngineLoop::restartClock(std::int64_t arrivalNs, std::int64_t nowNs) {
     frame_ = 0;
     nextFrameStep_ = frameSteps_;
     reanchor(arrivalNs);
-    emitInstant(nowNs);
+    if (!fault_) emitInstant(nowNs);  // no camera instant of a non-finite state (new settings while halted)
 }
 
 void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
@@ -138,6 +138,9 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
     switch (r.kind) {
         case Kind::Voltages: {
             for (const auto& [robot, e] : r.voltages) {
+                // Checked against the scene by the sender; a request made for
+                // another scene (one replaced in between) is not for this world.
+                if (robot < 0 || robot >= static_cast<int>(control_.size())) continue;
                 RobotControl& c = control_[robot];
                 c.lastTcp = e;
                 c.client = r.client;  // -1: the server stopping a departed client's robots
@@ -159,11 +162,13 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         }
         case Kind::ManualVoltages:
             for (const auto& [robot, e] : r.voltages) {
+                if (robot < 0 || robot >= static_cast<int>(control_.size())) continue;  // another scene's robot
                 control_[robot].controller = RobotController::Manual;
                 sim_->setVoltages(robot, e);
             }
             return;
         case Kind::ReleaseManual: {
+            if (r.robot < 0 || r.robot >= static_cast<int>(control_.size())) break;  // another scene's robot
             RobotControl& c = control_[r.robot];
             if (c.controller == RobotController::Manual) {
                 c.controller = c.client >= 0 ? RobotController::Tcp : RobotController::None;
@@ -219,7 +224,9 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             for (RobotControl& c : control_) c.lastTcp = Voltages{};
             restart(r.arrivalNs, nowNs);
             break;
-        case Kind::PlaceRobot: sim_->placeRobot(r.robot, r.robotPose); break;
+        case Kind::PlaceRobot:
+            if (r.robot >= 0 && r.robot < static_cast<int>(control_.size())) sim_->placeRobot(r.robot, r.robotPose);
+            break;
         case Kind::PlaceBall: sim_->placeBall(r.ball); break;
         case Kind::Speed:
             if (mode_ == RunMode::Lockstep) return replyTo(r, "lockstep", "the speed cannot change in lockstep mode");

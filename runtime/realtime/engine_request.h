@@ -29,6 +29,9 @@ constexpr double kMaxPlacedYawRate = scene_limits::kMaxYawRate;        // rad/s
 constexpr double kMaxPlacedBallSpeed = scene_limits::kMaxBallSpeed;    // m/s
 // The longest `step` a client may ask for at once, s of simulated time.
 constexpr double kMaxStepDuration = 3600.0;
+// ...and at most this many steps of dt (an hour at the default 1 ms): with a
+// tiny dt an hour of simulated time would keep the engine busy for hours.
+constexpr double kMaxStepSteps = 3.6e6;
 
 struct EngineRequest {
     enum class Kind {
