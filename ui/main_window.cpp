@@ -222,7 +222,8 @@ void MainWindow::buildDocks() {
     tabifyDockWidget(robotDock, cameraDock);
     robotDock->raise();
     // The right-hand docks keep a readable width on a small screen (1024 x 768).
-    for (QWidget* w : {static_cast<QWidget*>(robotPanel), static_cast<QWidget*>(camera_), drive}) w->setMinimumWidth(300);
+    for (QWidget* w : {static_cast<QWidget*>(robotPanel), static_cast<QWidget*>(camera_), drive})
+        w->setMinimumWidth(300);
     resizeDocks({robotDock}, {380}, Qt::Horizontal);
     connect(release, &QPushButton::clicked, this, &MainWindow::releaseManual);
     connect(joystick_, &JoystickWidget::moved, this, [this](double x, double y) { onStick(x, y, false); });
@@ -508,6 +509,12 @@ void MainWindow::updateTitle() {
     setWindowTitle(tr("vssim - %1").arg(scenePath_.startsWith(":/") ? QFileInfo(scenePath_).baseName() : scenePath_));
 }
 
+bool MainWindow::drivable(int robot) const {
+    // Against the scene being run: the view's selection comes from its last
+    // snapshot, which may still show the scene just replaced.
+    return robot >= 0 && robot < static_cast<int>(session_->scene().robots.size());
+}
+
 void MainWindow::onKey(int key, bool pressed) {
     if (key == Qt::Key_Escape && pressed) {
         releaseManual();
@@ -521,8 +528,7 @@ void MainWindow::onKey(int key, bool pressed) {
     }
     if (!keyboard_.handleKey(key, pressed)) return;
     const int selected = field_->selectedRobot();
-    if (manualRobot_ < 0 && selected >= 0 && keyboard_.active()) manualRobot_ = selected;
-    if (manualRobot_ >= static_cast<int>(session_->scene().robots.size())) manualRobot_ = -1;  // a scene just replaced
+    if (manualRobot_ < 0 && drivable(selected) && keyboard_.active()) manualRobot_ = selected;
     if (manualRobot_ >= 0) {
         const double max = session_->scene().robots[manualRobot_].params.max_voltage;
         sendManual(keyboard_.voltages(max));
@@ -533,8 +539,7 @@ void MainWindow::onStick(double x, double y, bool fromGamepad) {
     (void)fromGamepad;
     const int selected = field_->selectedRobot();
     stickActive_ = std::abs(x) > 0.05 || std::abs(y) > 0.05;
-    if (manualRobot_ < 0 && selected >= 0 && stickActive_) manualRobot_ = selected;
-    if (manualRobot_ >= static_cast<int>(session_->scene().robots.size())) manualRobot_ = -1;  // a scene just replaced
+    if (manualRobot_ < 0 && drivable(selected) && stickActive_) manualRobot_ = selected;
     if (manualRobot_ < 0) return;
     const double max = session_->scene().robots[manualRobot_].params.max_voltage;
     stickVolts_ =

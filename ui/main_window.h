@@ -64,6 +64,7 @@ private:
     // A new scene in the snapshots: camera, plots, undo history, selection, toolbar.
     void showScene(std::shared_ptr<const Scene> scene);
     void onKey(int key, bool pressed);
+    bool drivable(int robot) const;  // a robot of the scene being run (not one just replaced)
     void onStick(double x, double y, bool fromGamepad);
     void sendManual(const Voltages& volts);
     void applySettingsFromToolbar();
@@ -73,7 +74,7 @@ private:
     void updateTitle();
 
     std::unique_ptr<AppSession> session_;
-    std::shared_ptr<const Scene> shownScene_;  // the snapshots' scene the window was last set up for
+    std::shared_ptr<const Scene> shownScene_;         // the snapshots' scene the window was last set up for
     std::shared_ptr<const Snapshot> cameraSnapshot_;  // the one the camera dock shows
     QString scenePath_;
     FieldView* field_ = nullptr;
