@@ -658,7 +658,7 @@ void ControlServer::drainEngine() {
             if (it == clients_.end()) continue;
             Client& client = *it->second;
             if (r.stats) client.statsPending = false;
-            if (r.command == QLatin1String("step") && !client.steps.empty()) {
+            if (r.kind == EngineRequest::Kind::Step && !client.steps.empty()) {
                 const double done = client.steps.front();
                 client.steps.pop_front();
                 // Zero when none is left, so that rounding cannot build up.

@@ -256,6 +256,7 @@ void EngineLoop::replyTo(const EngineRequest& r, const QString& error, const QSt
     EngineReply reply;
     reply.client = r.client;
     reply.id = r.id;
+    reply.kind = r.kind;
     reply.command = r.command;
     reply.ok = error.isEmpty();
     reply.error = error;

@@ -71,6 +71,7 @@ struct EngineRequest {
 struct EngineReply {
     int client = -1;
     QJsonValue id;
+    EngineRequest::Kind kind = EngineRequest::Kind::Voltages;  // of the request answered
     QString command;
     bool ok = true;
     QString error;                     // error code when !ok (protocol.md, ERROR)
