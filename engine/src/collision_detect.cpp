@@ -1,5 +1,7 @@
 #include "vssim/collision_detect.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "vssim/broad_phase.h"
@@ -42,17 +44,20 @@ std::optional<Contact> ballWallContact(const BallState& ball, double radius, con
     return k;
 }
 
-std::optional<Contact> robotWallContact(const RobotState& robot, double side, int robotIndex, const Wall& wall,
-                                        int wallIndex) {
-    // Cheap rejection: no vertex can be beyond the wall when the centre is
-    // more than half a diagonal inside it.
-    if (wall.normal.dot(centre(robot) - wall.a) > boundingRadius(side)) return std::nullopt;
-    if (!projectsOntoWall(wall, centre(robot), side)) return std::nullopt;
+namespace {
+// A robot against one wall, from the vertices that are past it: the deepest
+// gives the depth along the wall's normal, and the depth-weighted average the
+// contact point, so that a face lying flat on the wall touches at its middle.
+template <typename IsPast>
+std::optional<Contact> vertexWallContact(const RobotState& robot, double side, int robotIndex, const Wall& wall,
+                                         int wallIndex, IsPast isPast) {
     double maxDepth = 0.0, weight = 0.0;
     Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
-    for (const Eigen::Vector2d& v : robotVertices(robot, side)) {
+    const auto vertices = robotVertices(robot, side);
+    for (int j = 0; j < 4; ++j) {
+        const Eigen::Vector2d& v = vertices[j];
         const double depth = -wall.normal.dot(v - wall.a);
-        if (depth <= 0.0) continue;
+        if (depth <= 0.0 || !isPast(j)) continue;
         maxDepth = std::max(maxDepth, depth);
         weighted += depth * v;
         weight += depth;
@@ -65,6 +70,16 @@ std::optional<Contact> robotWallContact(const RobotState& robot, double side, in
     k.depth = maxDepth;
     k.point = weighted / weight;
     return k;
+}
+}  // namespace
+
+std::optional<Contact> robotWallContact(const RobotState& robot, double side, int robotIndex, const Wall& wall,
+                                        int wallIndex) {
+    // Cheap rejection: no vertex can be beyond the wall when the centre is
+    // more than half a diagonal inside it.
+    if (wall.normal.dot(centre(robot) - wall.a) > boundingRadius(side)) return std::nullopt;
+    if (!projectsOntoWall(wall, centre(robot), side)) return std::nullopt;
+    return vertexWallContact(robot, side, robotIndex, wall, wallIndex, [](int) { return true; });
 }
 
 std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex, const BallState& ball,
@@ -165,18 +180,93 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
     return contacts;
 }
 
+namespace {
+
+// The ball against the chain of walls. On the floor: each wall whose nearest
+// point is within r_b, a corner of the chain counting for the wall that
+// starts there only (a ball on a post touches it once). Off the floor (it
+// tunnelled): one deep contact with the nearest wall, back towards the floor.
+void appendBallWallContacts(const Field& field, const BallState& ball, double radius,
+                            std::vector<Contact>& contacts) {
+    const Eigen::Vector2d c(ball.x, ball.y);
+    if (!onFloor(field, c)) {
+        const NearestWall nearest = nearestWall(field, c);
+        if (nearest.wall < 0) return;
+        Contact k;
+        k.a = {BodyKind::Ball, 0};
+        k.b = {BodyKind::Wall, nearest.wall};
+        k.normal = nearest.distance > 1e-12 ? Eigen::Vector2d((nearest.point - c) / nearest.distance)
+                                            : field.walls[nearest.wall].normal;
+        k.depth = radius + nearest.distance;
+        k.point = nearest.point;
+        contacts.push_back(k);
+        return;
+    }
+    const int walls = static_cast<int>(field.walls.size());
+    for (int w = 0; w < walls; ++w) {
+        const Wall& wall = field.walls[w];
+        const SegmentClosestPoint q = closestPointOnSegment(wall.a, wall.b, c);
+        if (q.distance >= radius || q.lambda >= 1.0) continue;
+        Contact k;
+        k.a = {BodyKind::Ball, 0};
+        k.b = {BodyKind::Wall, w};
+        k.normal = q.distance > 1e-12 ? Eigen::Vector2d((c - q.point) / q.distance) : wall.normal;
+        k.depth = radius - q.distance;
+        k.point = q.point;
+        contacts.push_back(k);
+    }
+}
+
+// A robot against the chain of walls: each vertex off the floor is past the
+// wall nearest to it (the paper's vertex test, model.md §5, with the wall
+// chosen by distance, so that a robot inside a goal is not also "past" the
+// goal line), and each post (a corner of the chain pointing into the floor)
+// inside the square pushes the robot back along the face nearest to it.
+void appendRobotWallContacts(const Field& field, const RobotState& robot, double side, int robotIndex,
+                             std::vector<Contact>& contacts) {
+    const Eigen::Vector2d c = centre(robot);
+    // Cheap rejection: nothing of the robot reaches past half a diagonal from its centre.
+    if (onFloor(field, c) && nearestWall(field, c).distance > boundingRadius(side)) return;
+    const auto vertices = robotVertices(robot, side);
+    std::array<int, 4> pastWall{-1, -1, -1, -1};
+    for (int j = 0; j < 4; ++j)
+        if (!onFloor(field, vertices[j])) pastWall[j] = nearestWall(field, vertices[j]).wall;
+    const int walls = static_cast<int>(field.walls.size());
+    for (int w = 0; w < walls; ++w) {
+        if (std::find(pastWall.begin(), pastWall.end(), w) == pastWall.end()) continue;
+        if (auto k = vertexWallContact(robot, side, robotIndex, field.walls[w], w,
+                                       [&pastWall, w](int j) { return pastWall[j] == w; }))
+            contacts.push_back(*k);
+    }
+    const double half = 0.5 * side;
+    for (int w = 0; w < walls; ++w) {
+        const Eigen::Vector2d& post = field.walls[w].a;
+        if (std::find(field.posts.begin(), field.posts.end(), post) == field.posts.end()) continue;
+        const Eigen::Vector2d local = toRobotFrame(robot, post);
+        const double alongX = half - std::abs(local.x()), alongY = half - std::abs(local.y());
+        if (!(alongX > 0.0 && alongY > 0.0)) continue;  // the post is not inside the square
+        const bool xFace = alongX <= alongY;
+        const Eigen::Vector2d face = xFace ? Eigen::Vector2d(local.x() >= 0.0 ? 1.0 : -1.0, 0.0)
+                                           : Eigen::Vector2d(0.0, local.y() >= 0.0 ? 1.0 : -1.0);
+        Contact k;
+        k.a = {BodyKind::Robot, robotIndex};
+        k.b = {BodyKind::Wall, w};
+        k.normal = (c - fromRobotFrame(robot, face)).normalized();  // away from the face the post presses into
+        k.depth = xFace ? alongX : alongY;
+        k.point = post;
+        contacts.push_back(k);
+    }
+}
+
+}  // namespace
+
 void appendWallContacts(const Field& field, const BodiesView& bodies, std::vector<Contact>& contacts) {
     const std::vector<RobotState>& robots = *bodies.robots;
-    const int walls = static_cast<int>(field.walls.size());
     for (int i = 0; i < static_cast<int>(robots.size()); ++i) {
         if (bodies.freeRobots && (*bodies.freeRobots)[i]) continue;
-        for (int w = 0; w < walls; ++w)
-            if (auto k = robotWallContact(robots[i], (*bodies.sides)[i], i, field.walls[w], w)) contacts.push_back(*k);
+        appendRobotWallContacts(field, robots[i], (*bodies.sides)[i], i, contacts);
     }
-    if (bodies.ball && !bodies.freeBall) {
-        for (int w = 0; w < walls; ++w)
-            if (auto k = ballWallContact(*bodies.ball, bodies.ballRadius, field.walls[w], w)) contacts.push_back(*k);
-    }
+    if (bodies.ball && !bodies.freeBall) appendBallWallContacts(field, *bodies.ball, bodies.ballRadius, contacts);
 }
 
 }  // namespace vssim

@@ -52,16 +52,16 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // Discs around the centres that hold each body at any heading, m.
     auto reach = [&model](std::size_t i) { return boundingRadius(model.sides[i]); };
     const Eigen::Vector2d ball(state.ball.x, state.ball.y);
-    // A body must cross a wall's line to touch the wall: the signed distance
-    // to the line (negative behind it) is a cheap, conservative gap.
-    for (const Wall& w : model.field.walls) {
-        for (std::size_t i = 0; i < n; ++i) {
-            const double gap =
-                w.normal.x() * (state.robots[i].x - w.a.x()) + w.normal.y() * (state.robots[i].y - w.a.y());
-            if (!(gap - reach(i) > out.robotTravel[i])) out.robots[i] = 0;
-        }
-        if (!(w.normal.dot(ball - w.a) - model.ball.radius > out.ballTravel)) out.ball = false;
+    // To touch a wall a body's centre must come within its reach of the
+    // wall's nearest point (posts included: they are the walls' ends); a
+    // centre off the floor is not free.
+    for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
+        if (!onFloor(model.field, c) || !(nearestWall(model.field, c).distance - reach(i) > out.robotTravel[i]))
+            out.robots[i] = 0;
     }
+    if (!onFloor(model.field, ball) || !(nearestWall(model.field, ball).distance - model.ball.radius > out.ballTravel))
+        out.ball = false;
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
         if (!((c - ball).norm() - reach(i) - model.ball.radius > out.robotTravel[i] + out.ballTravel))
