@@ -186,9 +186,9 @@ namespace {
 // point is within r_b, a corner of the chain counting for the wall that
 // starts there only (a ball on a post touches it once). Off the floor (it
 // tunnelled): one deep contact with the nearest wall, back towards the floor.
-void appendBallWallContacts(const Field& field, const BallState& ball, double radius,
-                            std::vector<Contact>& contacts) {
+void appendBallWallContacts(const Field& field, const BallState& ball, double radius, std::vector<Contact>& contacts) {
     const Eigen::Vector2d c(ball.x, ball.y);
+    if (clearOfWalls(field, c, radius)) return;
     if (!onFloor(field, c)) {
         const NearestWall nearest = nearestWall(field, c);
         if (nearest.wall < 0) return;
@@ -226,7 +226,9 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
                              std::vector<Contact>& contacts) {
     const Eigen::Vector2d c = centre(robot);
     // Cheap rejection: nothing of the robot reaches past half a diagonal from its centre.
-    if (onFloor(field, c) && nearestWall(field, c).distance > boundingRadius(side)) return;
+    const double reach = boundingRadius(side);
+    if (clearOfWalls(field, c, reach)) return;
+    if (onFloor(field, c) && !wallWithin(field, c, reach)) return;
     const auto vertices = robotVertices(robot, side);
     std::array<int, 4> pastWall{-1, -1, -1, -1};
     for (int j = 0; j < 4; ++j)

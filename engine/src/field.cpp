@@ -1,5 +1,6 @@
 #include "vssim/field.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vssim/geometry.h"
@@ -46,19 +47,25 @@ FieldProblem checkFieldDimensions(const FieldDimensions& d) {
     if (!(finiteAtLeast(d.width, 0.0) && d.width > 0.0)) return {"width", "must be a positive length"};
     const char* nonNegative = "must be zero or a positive length";
     const std::pair<const char*, double> lengths[] = {
-        {"goal_width", d.goal_width},       {"goal_depth", d.goal_depth},           {"corner_leg", d.corner_leg},
-        {"centre_radius", d.centre_radius}, {"goal_area_depth", d.goal_area_depth}, {"goal_area_width", d.goal_area_width},
-        {"penalty_mark", d.penalty_mark},   {"free_ball_x", d.free_ball_x},         {"free_ball_y", d.free_ball_y},
+        {"goal_width", d.goal_width},           {"goal_depth", d.goal_depth},
+        {"corner_leg", d.corner_leg},           {"centre_radius", d.centre_radius},
+        {"goal_area_depth", d.goal_area_depth}, {"goal_area_width", d.goal_area_width},
+        {"penalty_mark", d.penalty_mark},       {"free_ball_x", d.free_ball_x},
+        {"free_ball_y", d.free_ball_y},
     };
     for (const auto& [key, value] : lengths)
         if (!finiteAtLeast(value, 0.0)) return {key, nonNegative};
     const double shorter = std::min(d.length, d.width);
-    if (!(2.0 * d.corner_leg < shorter)) return {"corner_leg", "the corner triangles would meet: twice the leg must be under the field's shorter side"};
+    if (!(2.0 * d.corner_leg < shorter))
+        return {"corner_leg", "the corner triangles would meet: twice the leg must be under the field's shorter side"};
     if (!(d.goal_width < d.width - 2.0 * d.corner_leg))
-        return {"goal_width", "the goal is wider than its wall: it must be narrower than the width minus two corner legs"};
-    if (d.goal_width > 0.0 && !(d.goal_depth > 0.0)) return {"goal_depth", "a field with goals needs goals at least some depth deep"};
+        return {"goal_width",
+                "the goal is wider than its wall: it must be narrower than the width minus two corner legs"};
+    if (d.goal_width > 0.0 && !(d.goal_depth > 0.0))
+        return {"goal_depth", "a field with goals needs goals at least some depth deep"};
     if (!(d.centre_radius < 0.5 * shorter)) return {"centre_radius", "the centre circle must fit inside the field"};
-    if (!(d.goal_area_depth < 0.5 * d.length)) return {"goal_area_depth", "a goal area must end before the halfway line"};
+    if (!(d.goal_area_depth < 0.5 * d.length))
+        return {"goal_area_depth", "a goal area must end before the halfway line"};
     if (!(d.goal_area_width <= d.width)) return {"goal_area_width", "a goal area cannot be wider than the field"};
     if (!(d.penalty_mark <= 0.5 * d.length)) return {"penalty_mark", "the penalty mark must lie in its own half"};
     if (!(d.free_ball_x <= 0.5 * d.length)) return {"free_ball_x", "the free-ball marks must lie in their own half"};
@@ -125,21 +132,42 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p) {
     return best;
 }
 
+bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach) {
+    for (const Wall& w : field.walls) {
+        if (p.x() < std::min(w.a.x(), w.b.x()) - reach || p.x() > std::max(w.a.x(), w.b.x()) + reach ||
+            p.y() < std::min(w.a.y(), w.b.y()) - reach || p.y() > std::max(w.a.y(), w.b.y()) + reach)
+            continue;
+        if (closestPointOnSegment(w.a, w.b, p).distance <= reach) return true;
+    }
+    return false;
+}
+
+bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double clearance) {
+    // The goals lie beyond the goal lines and the posts on them, so the
+    // rectangle between the goal lines bounds every wall but the corner
+    // triangles, whose long sides lie on |x| + |y| = hx + hy - leg.
+    const double hx = 0.5 * field.length, hy = 0.5 * field.width;
+    const double ax = std::abs(p.x()), ay = std::abs(p.y());
+    if (!(ax < hx - clearance && ay < hy - clearance)) return false;
+    const double leg = field.dimensions.corner_leg;
+    return !(leg > 0.0) || ax + ay < hx + hy - leg - std::sqrt(2.0) * clearance;
+}
+
 bool onFloor(const Field& field, const Eigen::Vector2d& p) {
     if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return false;
+    if (clearOfWalls(field, p, 0.0)) return true;  // the open field: most points
     if (p.x() < field.lower.x() - kOnWall || p.x() > field.upper.x() + kOnWall || p.y() < field.lower.y() - kOnWall ||
         p.y() > field.upper.y() + kOnWall)
         return false;
     // Crossing number of a ray towards +x; points on a wall count as inside.
     bool inside = false;
     for (const Wall& w : field.walls) {
-        if (closestPointOnSegment(w.a, w.b, p).distance <= kOnWall) return true;
         if ((w.a.y() > p.y()) != (w.b.y() > p.y())) {
             const double x = w.a.x() + (p.y() - w.a.y()) * (w.b.x() - w.a.x()) / (w.b.y() - w.a.y());
             if (x > p.x()) inside = !inside;
         }
     }
-    return inside;
+    return inside || nearestWall(field, p).distance <= kOnWall;
 }
 
 bool robotInsideField(const Field& field, double side, double x, double y, double theta) {

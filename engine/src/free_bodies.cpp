@@ -57,10 +57,11 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // centre off the floor is not free.
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
-        if (!onFloor(model.field, c) || !(nearestWall(model.field, c).distance - reach(i) > out.robotTravel[i]))
-            out.robots[i] = 0;
+        if (clearOfWalls(model.field, c, reach(i) + out.robotTravel[i])) continue;
+        if (!onFloor(model.field, c) || wallWithin(model.field, c, reach(i) + out.robotTravel[i])) out.robots[i] = 0;
     }
-    if (!onFloor(model.field, ball) || !(nearestWall(model.field, ball).distance - model.ball.radius > out.ballTravel))
+    if (!clearOfWalls(model.field, ball, model.ball.radius + out.ballTravel) &&
+        (!onFloor(model.field, ball) || wallWithin(model.field, ball, model.ball.radius + out.ballTravel)))
         out.ball = false;
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);

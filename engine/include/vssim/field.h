@@ -35,17 +35,17 @@ struct Wall {
 // the right (x > 0) is the one a team attacking +x shoots at.
 struct FieldDimensions {
     FieldType type = FieldType::Box;
-    double length = 1.50;           // playing area along x, goal line to goal line
-    double width = 1.30;            // playing area along y, wall to wall
-    double goal_width = 0.0;        // goal mouth, centred on each short wall (0: no goals)
-    double goal_depth = 0.0;        // behind the goal line, to the back wall
-    double corner_leg = 0.0;        // legs of the isosceles right triangles in the corners (0: square corners)
-    double centre_radius = 0.20;    // centre circle
-    double goal_area_depth = 0.0;   // goal area in front of each goal, along x (0: none)
-    double goal_area_width = 0.0;   // goal area along y, centred
-    double penalty_mark = 0.0;      // penalty mark's distance from the goal line, along x
-    double free_ball_x = 0.0;       // free-ball marks' distance from the goal line, along x
-    double free_ball_y = 0.0;       // free-ball marks' distance from the long axis, along y
+    double length = 1.50;          // playing area along x, goal line to goal line
+    double width = 1.30;           // playing area along y, wall to wall
+    double goal_width = 0.0;       // goal mouth, centred on each short wall (0: no goals)
+    double goal_depth = 0.0;       // behind the goal line, to the back wall
+    double corner_leg = 0.0;       // legs of the isosceles right triangles in the corners (0: square corners)
+    double centre_radius = 0.20;   // centre circle
+    double goal_area_depth = 0.0;  // goal area in front of each goal, along x (0: none)
+    double goal_area_width = 0.0;  // goal area along y, centred
+    double penalty_mark = 0.0;     // penalty mark's distance from the goal line, along x
+    double free_ball_x = 0.0;      // free-ball marks' distance from the goal line, along x
+    double free_ball_y = 0.0;      // free-ball marks' distance from the long axis, along y
 };
 
 // The official dimensions of a field type (the seed's 1.50 x 1.30 box for Box).
@@ -89,6 +89,16 @@ struct NearestWall {
     double distance = 0.0;
 };
 NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p);
+// Whether some wall comes within `reach` (m) of p (nearestWall(p).distance
+// <= reach), with the walls whose bounding boxes are out of reach skipped.
+bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach);
+
+// A quick, sufficient test that p is on the floor more than `clearance` (m)
+// from every wall and post: inside the rectangle between the goal lines
+// shrunk by it, and inside the corner triangles' lines by it. False does not
+// mean that p is near a wall; it lets the contact tests skip the walls for
+// the bodies in the open field.
+bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double clearance);
 
 // Whether a square robot of side `side` (m) centred at (x, y) with heading
 // theta (rad), or a disc of radius r, lies on the floor clear of every wall
