@@ -30,6 +30,27 @@ std::optional<Integrator> integratorFromName(const QString& name);
 QString collisionModelName(CollisionModel model);
 std::optional<CollisionModel> collisionModelFromName(const QString& name);
 QString teamName(Team team);
+QString fieldTypeName(FieldType type);
+std::optional<FieldType> fieldTypeFromName(const QString& name);
+
+// The keys of a scene file's `field` object besides `type`, in the order they
+// are written, with the dimension each one sets (docs/scenes.md, `field`).
+struct FieldDimensionKey {
+    const char* key;                     // "goal_width", ...
+    double FieldDimensions::*dimension;  // &FieldDimensions::goal_width, ...
+    AllowedRange range;                  // what the reader accepts on its own (scene_limits.h)
+    bool box;                            // whether a box (no goals, no corners) takes it
+};
+extern const FieldDimensionKey kFieldDimensionKeys[11];
+
+// The box a scene file with neither `field.type` nor `field.centre_radius`
+// describes: length x width, the centre circle 0.20 m when it fits in the
+// box (its radius under half the shorter side), none otherwise.
+FieldDimensions boxDimensions(double length, double width);
+
+// A field's floor area inside its walls (the goals included, the corner
+// triangles left out), m².
+double floorArea(const Field& field);
 
 // Resolves a scene argument: an existing file, or the name of a built-in
 // example scene ("kickoff_3v3" or "kickoff_3v3.json", compiled in as a Qt
