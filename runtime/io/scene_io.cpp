@@ -526,19 +526,29 @@ std::optional<Scene> loadSceneFile(const QString& path, QString* error) {
     return scene;
 }
 
+QJsonObject fieldToJson(const Field& field) {
+    // The type and every dimension it takes, so that reading it back gives the same field.
+    const FieldDimensions& d = field.dimensions;
+    QJsonObject o{{"type", fieldTypeName(d.type)}};
+    for (const FieldDimensionKey& k : kFieldDimensionKeys)
+        if (d.type != FieldType::Box || k.box) o[k.key] = d.*k.dimension;
+    // A box made in code with a centre circle it cannot hold (makeRectangularField
+    // of a small box): left out, so the file is read as a box without one.
+    if (d.type == FieldType::Box && !(d.centre_radius < 0.5 * std::min(d.length, d.width))) o.remove("centre_radius");
+    return o;
+}
+
+std::optional<Field> fieldFromJson(const QJsonObject& field, QString* error) {
+    QJsonObject root{{"field", field}};
+    const std::optional<Scene> scene = parseScene(QJsonDocument(root).toJson(QJsonDocument::Compact), error);
+    if (!scene) return std::nullopt;
+    return scene->field;
+}
+
 QByteArray sceneToJson(const Scene& scene) {
     QJsonObject root;
     root["version"] = 1;
-    // The type and every dimension it takes, so that reading it back gives the same field.
-    const FieldDimensions& d = scene.field.dimensions;
-    QJsonObject field{{"type", fieldTypeName(d.type)}};
-    for (const FieldDimensionKey& k : kFieldDimensionKeys)
-        if (d.type != FieldType::Box || k.box) field[k.key] = d.*k.dimension;
-    // A box made in code with a centre circle it cannot hold (makeRectangularField
-    // of a small box): left out, so the file is read as a box without one.
-    if (d.type == FieldType::Box && !(d.centre_radius < 0.5 * std::min(d.length, d.width)))
-        field.remove("centre_radius");
-    root["field"] = field;
+    root["field"] = fieldToJson(scene.field);
     const SimulationSettings& s = scene.simulation;
     root["simulation"] = QJsonObject{{"integrator", integratorName(s.integrator)},
                                      {"dt", s.dt},

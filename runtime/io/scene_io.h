@@ -3,6 +3,7 @@
 #pragma once
 
 #include <QByteArray>
+#include <QJsonObject>
 #include <QString>
 #include <QStringList>
 #include <optional>
@@ -23,6 +24,12 @@ std::optional<Scene> loadSceneFile(const QString& path, QString* error);
 // numbers in their shortest round-trip form, so parseScene(sceneToJson(s))
 // reproduces s exactly.
 QByteArray sceneToJson(const Scene& scene);
+
+// A field as a scene file's `field` object (its type and every dimension it
+// takes), as sceneToJson writes it and WELCOME carries it; and back, with the
+// scene reader's checks and messages (a `field` without `type` is a box).
+QJsonObject fieldToJson(const Field& field);
+std::optional<Field> fieldFromJson(const QJsonObject& field, QString* error);
 
 // The names used in scene files and on the command line.
 QString integratorName(Integrator integrator);
