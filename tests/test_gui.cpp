@@ -9,13 +9,14 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QFileInfo>
 #include <QLabel>
 #include <QPointer>
-#include <QFileInfo>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QtTest>
 #include <cmath>
+#include <tuple>
 
 #include "camera/camera_colours.h"
 #include "field_view.h"
@@ -119,6 +120,31 @@ private slots:
         QVERIFY(waitFor(w, [&](const Snapshot& s) {
             return std::abs(s.ball.vx - 1.0) < 20 * pixel && std::abs(s.ball.vy) < 20 * pixel;
         }));
+    }
+
+    void aRobotDraggedOutOfTheFloorStaysOnIt() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        const Field field = w.session().scene().field;
+        const RobotState start = w.session().latest()->robots[4];  // blue1 at (0.35, -0.25)
+        const double side = w.session().scene().robots[4].params.side;
+        // Into the bottom right corner triangle, then into the goal, then behind the goal's back wall.
+        for (auto [x, y, inGoal] : {std::tuple{0.74, -0.64, false}, {0.80, 0.0, true}, {0.95, 0.05, true}}) {
+            const RobotState before = w.session().latest()->robots[4];
+            QTest::mousePress(&view, Qt::LeftButton, {}, at(view, before.x, before.y));
+            moveMouse(view, at(view, x, y));
+            QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, x, y));
+            QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[4].x != before.x; }));
+            QTRY_VERIFY(view.snapshot() && view.snapshot()->robots[4].x == w.session().latest()->robots[4].x);
+            const RobotState r = w.session().latest()->robots[4];
+            QVERIFY2(robotInsideField(field, side, r.x, r.y, r.theta), qPrintable(QString("%1, %2").arg(r.x).arg(r.y)));
+            QCOMPARE(r.x > field.length / 2, inGoal);  // its centre in the goal when dragged there
+        }
+        Q_UNUSED(start);
     }
 
     void keysDriveTheSelectedRobotAndManualOverridesTcp() {
@@ -293,6 +319,19 @@ private slots:
         }
         QVERIFY2(near(colourAt(0.2, 0.3), kBallColour), qPrintable(colourAt(0.2, 0.3).name()));
         QVERIFY(near(colourAt(0.4, -0.4), kFloorColour));
+        // The official field: floor in the goals, outside behind them and in
+        // the corner triangles, walls along the back of the goals and the
+        // triangles' hypotenuses, white at a free-ball mark.
+        for (auto [x, y] : {std::pair{0.80, 0.1}, {-0.80, -0.1}})
+            QVERIFY2(near(colourAt(x, y), kFloorColour), qPrintable(colourAt(x, y).name()));
+        for (auto [x, y] : {std::pair{0.90, 0.0}, {-0.90, 0.0}, {0.80, 0.35}, {0.745, 0.645}, {-0.745, -0.645}})
+            QVERIFY2(near(colourAt(x, y), kOutsideColour), qPrintable(colourAt(x, y).name()));
+        for (auto [x, y] : {std::pair{0.85, 0.0}, {-0.715, 0.615}})
+            QVERIFY2(near(colourAt(x, y), kWallColour), qPrintable(colourAt(x, y).name()));
+        QVERIFY2(near(colourAt(-0.375, -0.25), kMarkingColour) || colourAt(-0.375, -0.25).red() > 120,
+                 qPrintable(colourAt(-0.375, -0.25).name()));
+        const QByteArray fieldOut = qgetenv("VSSIM_FIELD_SCREENSHOT");
+        if (!fieldOut.isEmpty()) QVERIFY(image.save(QString::fromLocal8Bit(fieldOut)));
         const QByteArray out = qgetenv("VSSIM_SCREENSHOT");
         if (!out.isEmpty()) {
             // The README's picture: the kick-off as shipped, a moving robot selected.
@@ -433,6 +472,10 @@ private slots:
         const auto seen = window.fieldView().snapshot();
         QCOMPARE(seen->robots.size(), scene.robots.size());
         QCOMPARE(seen->scene->robots[3].name, std::string("blue0"));
+        // The field as the server has it (WELCOME's field: type and dimensions).
+        QCOMPARE(seen->scene->field.dimensions.type, FieldType::Vsss3v3);
+        QCOMPARE(seen->scene->field.walls.size(), scene.field.walls.size());
+        QCOMPARE(seen->scene->field.dimensions.goal_depth, 0.10);
         QVERIFY(seen->robots[1].x > scene.robots[1].initial.x);  // robot 1 drives (4 V, 3 V)
         // Pause through the window: the server's time stops.
         window.findChild<QAction*>("remote.pause")->trigger();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <QByteArray>
+#include <QJsonObject>
 #include <QString>
 #include <QStringList>
 #include <optional>
@@ -24,12 +25,39 @@ std::optional<Scene> loadSceneFile(const QString& path, QString* error);
 // reproduces s exactly.
 QByteArray sceneToJson(const Scene& scene);
 
+// A field as a scene file's `field` object (its type and every dimension it
+// takes), as sceneToJson writes it and WELCOME carries it; and back, with the
+// scene reader's checks and messages (a `field` without `type` is a box).
+QJsonObject fieldToJson(const Field& field);
+std::optional<Field> fieldFromJson(const QJsonObject& field, QString* error);
+
 // The names used in scene files and on the command line.
 QString integratorName(Integrator integrator);
 std::optional<Integrator> integratorFromName(const QString& name);
 QString collisionModelName(CollisionModel model);
 std::optional<CollisionModel> collisionModelFromName(const QString& name);
 QString teamName(Team team);
+QString fieldTypeName(FieldType type);
+std::optional<FieldType> fieldTypeFromName(const QString& name);
+
+// The keys of a scene file's `field` object besides `type`, in the order they
+// are written, with the dimension each one sets (docs/scenes.md, `field`).
+struct FieldDimensionKey {
+    const char* key;                     // "goal_width", ...
+    double FieldDimensions::*dimension;  // &FieldDimensions::goal_width, ...
+    AllowedRange range;                  // what the reader accepts on its own (scene_limits.h)
+    bool box;                            // whether a box (no goals, no corners) takes it
+};
+extern const FieldDimensionKey kFieldDimensionKeys[11];
+
+// The box a scene file with neither `field.type` nor `field.centre_radius`
+// describes: length x width, the centre circle 0.20 m when it fits in the
+// box (its radius under half the shorter side), none otherwise.
+FieldDimensions boxDimensions(double length, double width);
+
+// A field's floor area inside its walls (the goals included, the corner
+// triangles left out), m².
+double floorArea(const Field& field);
 
 // Resolves a scene argument: an existing file, or the name of a built-in
 // example scene ("kickoff_3v3" or "kickoff_3v3.json", compiled in as a Qt

@@ -36,8 +36,12 @@ constexpr AllowedRange kAny{-kInfinity, kInfinity, false, ""};
 constexpr AllowedRange kUnitInterval{0.0, 1.0, false, ""};
 constexpr AllowedRange kTimeStep{kMinSceneTimeStep, kMaxSceneTimeStep, false, "s"};
 
-// Field (default 1.50 x 1.30 m).
+// Field (default 1.50 x 1.30 m): its length and width, and every other
+// dimension (goals, corners, centre circle, goal areas, marks; 0 where a
+// field has none). Whether they make a field together is checked by
+// checkFieldDimensions (vssim/field.h).
 constexpr AllowedRange kFieldSize{0.001, 100.0, false, "m"};
+constexpr AllowedRange kFieldFeature{0.0, 100.0, false, "m"};
 
 // Robot (defaults: 7.5 cm, 180 g, 1.7e-4 kg m², wheels 6.5 cm apart).
 constexpr AllowedRange kRobotSide{1e-4, 10.0, false, "m"};

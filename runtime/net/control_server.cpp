@@ -483,7 +483,7 @@ QJsonObject ControlServer::welcome(const Client& client) const {
         {"frame", snapshot ? static_cast<double>(snapshot->frame) : 0.0},
         {"dt", dt},
         {"frame_period", framePeriod},
-        {"field", QJsonObject{{"length", scene_.field.length}, {"width", scene_.field.width}}},
+        {"field", fieldToJson(scene_.field)},
         {"ball", QJsonObject{{"radius", scene_.ball_params.radius}}},
         {"camera", cameraJson},
         {"robots", robots},
