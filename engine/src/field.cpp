@@ -11,7 +11,7 @@ namespace {
 
 // Points this close to a wall (m) count as on it: far below any body's size,
 // far above the rounding of coordinates of order 1 m.
-constexpr double kOnWall = 1e-12;
+constexpr double kOnWall = 1e-13;
 
 Eigen::Vector2d leftNormal(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const Eigen::Vector2d d = (b - a).normalized();

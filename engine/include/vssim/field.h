@@ -79,7 +79,7 @@ Field makeField(const FieldDimensions& dimensions);
 Field makeRectangularField(double length, double width);
 
 // Whether a point lies on the floor (inside the chain of walls, the goals
-// included; on a wall counts as inside).
+// included; within 1e-13 m of a wall counts as inside).
 bool onFloor(const Field& field, const Eigen::Vector2d& p);
 // The nearest point of the walls to p: which wall and where, and the
 // distance, m.
