@@ -356,7 +356,7 @@ void TestGame::automaticPlacementIsLegal() {
         call.quadrant = c.quadrant;
         const Placement p = automaticPlacement(model, state, teams, game, scene.game.rules, call);
         const QByteArray what =
-            QByteArray(callName(c.call)) + " " + teamColour(c.team) + " q" + QByteArray::number(c.quadrant);
+            QByteArray(callName(c.call)) + " " + teamLabel(c.team) + " q" + QByteArray::number(c.quadrant);
         QVERIFY2(inside(model, p), what.constData());
         for (Team team : {Team::Yellow, Team::Blue}) {
             const std::string why = checkTeamPlacement(model, teams, namesOf(scene), scene.game.rules, call, team, p);

@@ -120,7 +120,7 @@ std::string Match::placeTeam(Team team, const std::vector<std::pair<int, RobotSt
         if (robot < 0 || robot >= static_cast<int>(teams_.size()))
             return "robot " + std::to_string(robot) + " does not exist";
         if (teams_[robot] != team)
-            return names_[robot] + " (robot " + std::to_string(robot) + ") is not a " + teamColour(team) + " robot";
+            return names_[robot] + " (robot " + std::to_string(robot) + ") is not a " + teamLabel(team) + " robot";
         RobotState at = pose;
         at.v = 0.0, at.omega = 0.0;
         proposed.robots[robot] = at;

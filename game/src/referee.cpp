@@ -55,7 +55,7 @@ const char* callName(Call call) {
     return "?";
 }
 
-const char* teamColour(Team team) { return team == Team::Yellow ? "yellow" : "blue"; }
+const char* teamLabel(Team team) { return team == Team::Yellow ? "yellow" : "blue"; }
 
 GameState initialGameState(const GameRules& rules, std::size_t robots) {
     GameState game;
@@ -121,7 +121,7 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
         const Team scorer = otherTeam(defender);
         ++game.goals[teamIndex(scorer)];
         return makeCall(rules, game, Call::KickOff, defender, 0, state.time,
-                        std::string("goal by ") + teamColour(scorer));
+                        std::string("goal by ") + teamLabel(scorer));
     }
     // The end of a half: the other team kicks off the next; after the last, full time.
     if (reached(game.clock, rules.half_duration)) {

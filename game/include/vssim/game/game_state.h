@@ -67,6 +67,6 @@ inline double defendedSide(Team team) { return team == Team::Yellow ? -1.0 : 1.0
 
 const char* gamePhaseName(GamePhase phase);
 const char* callName(Call call);
-const char* teamColour(Team team);
+const char* teamLabel(Team team);
 
 }  // namespace vssim
