@@ -122,6 +122,30 @@ private slots:
         }));
     }
 
+    void doubleClickPutsTheBallThere() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        QTRY_VERIFY(view.snapshot() != nullptr);
+        const BallState before = w.session().latest()->ball;
+        const double pixel = 1.0 / (view.toWidget(1, 0).x() - view.toWidget(0, 0).x());
+        QTest::mouseDClick(&view, Qt::LeftButton, {}, at(view, 0.3, -0.2));
+        QVERIFY(waitFor(w, [&](const Snapshot& s) {
+            return std::hypot(s.ball.x - 0.3, s.ball.y + 0.2) < 1.5 * pixel && s.ball.vx == 0.0 && s.ball.vy == 0.0;
+        }));
+        // Off the floor (behind a goal's back wall): the view resets, the ball stays.
+        const BallState placed = w.session().latest()->ball;
+        QTest::mouseDClick(&view, Qt::LeftButton, {}, at(view, 0.95, 0.6));
+        QTest::qWait(100);
+        QCOMPARE(w.session().latest()->ball.x, placed.x);
+        // Undo puts it back.
+        action(w, "action.undo")->trigger();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.ball.x == before.x && s.ball.y == before.y; }));
+    }
+
     void aRobotDraggedOutOfTheFloorStaysOnIt() {
         MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
         w.show();

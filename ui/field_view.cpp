@@ -89,7 +89,8 @@ FieldView::FieldView(QWidget* parent) : QOpenGLWidget(parent) {
     setToolTip(
         tr("Drag a robot or the ball to move it; mouse wheel over a robot turns it;\n"
            "Shift+drag from a body sets its velocity (0.1 m of arrow = 1 m/s);\n"
-           "wheel elsewhere zooms, right or middle drag pans, double-click resets the view;\n"
+           "wheel elsewhere zooms, right or middle drag pans; double-click puts the ball there\n"
+           "(off the floor: resets the view);\n"
            "W A S D or the arrow keys drive the selected robot, Esc lets it go;\n"
            "Space plays or pauses, Ctrl+Z / Ctrl+Shift+Z undo and redo a move,\n"
            "Ctrl+Right steps 30 ms (paused), Ctrl+R resets, Ctrl+Up / Ctrl+Down change the speed."));
@@ -493,7 +494,18 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
     update();
 }
 
-void FieldView::mouseDoubleClickEvent(QMouseEvent*) { resetView(); }
+void FieldView::mouseDoubleClickEvent(QMouseEvent* event) {
+    // On the floor: the ball goes there, at rest (a referee placing it by
+    // hand). Off the floor: the view is reset.
+    if (!snapshot_ || event->button() != Qt::LeftButton) return;
+    const QPointF f = toField(event->position());
+    if (!onFloor(snapshot_->scene->field, {f.x(), f.y()})) {
+        resetView();
+        return;
+    }
+    emit ballDragStarted(snapshot_->ball);
+    emit ballPlaced(clampInside(BallState{f.x(), f.y(), 0.0, 0.0}), true);
+}
 
 void FieldView::wheelEvent(QWheelEvent* event) {
     if (!snapshot_) return;
