@@ -110,6 +110,7 @@ private slots:
     void matchWithoutGameIsThePlainSimulation();
     void matchIsDeterministicAndCutFree();
     void builtinTeamScoresAgainstIdle();
+    void seedsVaryTheGameReproducibly();
     void voltagesForReachTheAskedVelocity();
 };
 
@@ -556,6 +557,35 @@ void TestGame::builtinTeamScoresAgainstIdle() {
     QCOMPARE(match.game().phase, GamePhase::Finished);
     QVERIFY2(match.game().goals[0] >= 1, qPrintable(QString::number(match.game().goals[0])));
     QCOMPARE(match.game().goals[1], 0);
+}
+
+void TestGame::seedsVaryTheGameReproducibly() {
+    const Scene scene = gameScene(TeamControl::Builtin, TeamControl::Builtin);
+    auto play = [&scene](std::uint64_t seed) {
+        Match match(scene, seed);
+        match.advanceTo(15000);
+        return std::make_pair(hashState(match.simulation().state()), match.game().calls.size());
+    };
+    QCOMPARE(play(7), play(7));
+    QVERIFY(play(7).first != play(8).first);
+    QVERIFY(play(7).first != play(0).first);
+    // The jittered kick-off: every robot within the jitter of its spot, legal.
+    Match plain(scene, 0), jittered(scene, 9);
+    const WorldState& a = plain.simulation().state();
+    const WorldState& b = jittered.simulation().state();
+    bool moved = false;
+    for (std::size_t i = 0; i < a.robots.size(); ++i) {
+        QVERIFY(std::abs(a.robots[i].x - b.robots[i].x) <= Match::kPlacementJitter);
+        QVERIFY(std::abs(a.robots[i].y - b.robots[i].y) <= Match::kPlacementJitter);
+        QVERIFY(std::abs(a.robots[i].theta - b.robots[i].theta) <= Match::kHeadingJitter);
+        moved |= a.robots[i].x != b.robots[i].x;
+    }
+    QVERIFY(moved);
+    Placement now{b.robots, b.ball};
+    for (Team team : {Team::Yellow, Team::Blue})
+        QCOMPARE(checkTeamPlacement(jittered.simulation().model(), jittered.teams(), namesOf(scene), scene.game.rules,
+                                    jittered.game().last, team, now),
+                 std::string());
 }
 
 void TestGame::voltagesForReachTheAskedVelocity() {

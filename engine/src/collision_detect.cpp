@@ -241,9 +241,10 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
             contacts.push_back(*k);
     }
     const double half = 0.5 * side;
-    for (int w = 0; w < walls; ++w) {
-        const Eigen::Vector2d& post = field.walls[w].a;
-        if (std::find(field.posts.begin(), field.posts.end(), post) == field.posts.end()) continue;
+    for (std::size_t p = 0; p < field.posts.size(); ++p) {
+        const Eigen::Vector2d& post = field.posts[p];
+        const int w = field.postWalls[p];
+        if ((post - c).squaredNorm() > reach * reach) continue;  // out of the square's reach
         const Eigen::Vector2d local = toRobotFrame(robot, post);
         const double alongX = half - std::abs(local.x()), alongY = half - std::abs(local.y());
         if (!(alongX > 0.0 && alongY > 0.0)) continue;  // the post is not inside the square

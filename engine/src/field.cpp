@@ -104,7 +104,10 @@ Field makeField(const FieldDimensions& dimensions) {
     for (std::size_t i = 0; i < n; ++i) {
         const V in = corners[i] - corners[(i + n - 1) % n];
         const V out = corners[(i + 1) % n] - corners[i];
-        if (in.x() * out.y() - in.y() * out.x() < 0.0) field.posts.push_back(corners[i]);
+        if (in.x() * out.y() - in.y() * out.x() < 0.0) {
+            field.posts.push_back(corners[i]);
+            field.postWalls.push_back(static_cast<int>(i));  // wall i runs from corner i
+        }
     }
     field.lower = V(-hx - depth, -hy);
     field.upper = V(hx + depth, hy);

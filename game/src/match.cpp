@@ -8,18 +8,20 @@
 
 namespace vssim {
 
-Match::Match(const Scene& scene)
+Match::Match(const Scene& scene, std::uint64_t seed)
     : sim_(scene),
       teams_(robotTeams(scene)),
       rules_(scene.game.rules),
       yellow_(scene.game.yellow),
       blue_(scene.game.blue),
-      game_(initialGameState(scene.game.rules, scene.robots.size())) {
+      game_(initialGameState(scene.game.rules, scene.robots.size())),
+      random_(seed),
+      jitter_(seed != 0) {
     for (const RobotSpec& r : scene.robots) names_.push_back(r.name);
     remote_.assign(scene.robots.size(), {});
     tickSteps_ = std::max<std::int64_t>(1, std::llround(rules_.tick / sim_.dt()));
     ticking_ = rules_.referee || yellow_ != TeamControl::Remote || blue_ != TeamControl::Remote;
-    if (rules_.referee) place(automaticPlacement(sim_.model(), sim_.state(), teams_, game_, rules_, game_.last));
+    if (rules_.referee) placeFor(game_.last);
     if (ticking_) applyVoltages();
 }
 
@@ -49,9 +51,38 @@ AdvanceReport Match::advanceTo(std::int64_t target) {
 
 void Match::tick() {
     const double elapsed = static_cast<double>(tickSteps_) * sim_.dt();
-    if (const auto call = refereeTick(rules_, sim_.model(), sim_.state(), teams_, elapsed, game_))
-        place(automaticPlacement(sim_.model(), sim_.state(), teams_, game_, rules_, *call));
+    if (const auto call = refereeTick(rules_, sim_.model(), sim_.state(), teams_, elapsed, game_)) placeFor(*call);
     applyVoltages();
+}
+
+double Match::uniform() {
+    // splitmix64 (Steele, Lea and Flood 2014): a fixed sequence per seed.
+    random_ += 0x9e3779b97f4a7c15ull;
+    std::uint64_t z = random_;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
+}
+
+void Match::placeFor(const RefereeCall& call) {
+    const Placement spots = automaticPlacement(sim_.model(), sim_.state(), teams_, game_, rules_, call);
+    if (!jitter_) {
+        place(spots);
+        return;
+    }
+    Placement jittered = spots;
+    for (RobotState& r : jittered.robots) {
+        r.x += kPlacementJitter * uniform();
+        r.y += kPlacementJitter * uniform();
+        r.theta += kHeadingJitter * uniform();
+    }
+    for (Team team : {Team::Yellow, Team::Blue})
+        if (!checkTeamPlacement(sim_.model(), teams_, names_, rules_, call, team, jittered).empty()) {
+            place(spots);
+            return;
+        }
+    place(jittered);
 }
 
 void Match::applyVoltages() {
@@ -92,7 +123,7 @@ bool Match::call(Call call, Team team, int quadrant) {
     if (call == Call::FreeBall && (quadrant < 1 || quadrant > 4)) return false;
     const RefereeCall c =
         makeCall(rules_, game_, call, team, call == Call::FreeBall ? quadrant : 0, sim_.state().time, "by hand");
-    place(automaticPlacement(sim_.model(), sim_.state(), teams_, game_, rules_, c));
+    placeFor(c);
     applyVoltages();
     return true;
 }

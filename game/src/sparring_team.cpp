@@ -76,65 +76,98 @@ Eigen::Vector2d aimPoint(const Field& field, const WorldState& state, const std:
     return aim;
 }
 
-Eigen::Vector2d attacker(const Field& field, const RobotState& r, double side, const BallState& ball,
-                         const Eigen::Vector2d& aim) {
-    const Eigen::Vector2d b(ball.x, ball.y);
-    const Eigen::Vector2d toGoal = (aim - b).normalized();
-    const Eigen::Vector2d me(r.x, r.y);
-    const Eigen::Vector2d fromMe = b - me;
-    const double along = fromMe.dot(toGoal);  // > 0: I am on the right side of the ball
-    const double across = std::abs(toGoal.x() * fromMe.y() - toGoal.y() * fromMe.x());
-    // Lined up behind the ball: drive through it towards the goal.
-    if (along > 0.0 && across < 0.03 && std::acos(std::clamp(fromMe.normalized().dot(toGoal), -1.0, 1.0)) < kLinedUp)
-        return goTo(r, b + 0.2 * toGoal, kCruise);
-    // Otherwise go round to the spot behind it, keeping clear of the ball
-    // when coming from the wrong side.
-    const Eigen::Vector2d behind = b - kBehindBall * toGoal;
-    Eigen::Vector2d target = behind;
-    if (along < 0.02) {
-        const Eigen::Vector2d across(-toGoal.y(), toGoal.x());
-        const double sign = across.dot(me - b) >= 0.0 ? 1.0 : -1.0;
-        target = behind + sign * 0.08 * across;
-    }
-    const Eigen::Vector2d spot = reachable(field, target, side);
-    // The spot behind the ball is against a wall: push the ball from where
-    // I am if I am on the right side of it, or free it sideways.
-    if ((spot - target).norm() > 0.02 && along > 0.0) return goTo(r, b + 0.1 * fromMe.normalized(), kCruise);
-    return goTo(r, spot, kCruise);
-}
+// One robot of the team deciding its move: where to go, around the other
+// robots, or through the ball.
+struct Player {
+    const Field& field;
+    const WorldState& state;
+    std::size_t self;
+    double side;  // m
+    Team team;
 
-Eigen::Vector2d goalkeeper(const Field& field, const RobotState& r, const BallState& ball, Team team) {
-    const double s = defendedSide(team);
-    const double hx = 0.5 * field.length;
-    const double reach = 0.5 * field.dimensions.goal_width;
-    const Eigen::Vector2d b(ball.x, ball.y);
-    // The ball slow in our goal area: clear it (a ball stuck there is a penalty).
-    if (inGoalArea(field, static_cast<int>(s), b) && std::hypot(ball.vx, ball.vy) < 0.2 && s * ball.x < hx) {
-        const Eigen::Vector2d out(-s, 0.0);
-        const Eigen::Vector2d me(r.x, r.y);
-        if ((b - me).dot(out) > 0.0) return goTo(r, b + 0.15 * out, kCruise);
-    }
-    // Follow the ball's line across the goal mouth, predicting a little.
-    const double y = std::clamp(ball.y + 0.1 * ball.vy, -reach, reach);
-    const Eigen::Vector2d spot(s * (hx - kKeeperOffset), y);
-    if ((spot - Eigen::Vector2d(r.x, r.y)).norm() < 0.015) return faceAlong(r, 0.5 * kPi);
-    return goTo(r, spot, kCruise);
-}
+    const RobotState& me() const { return state.robots[self]; }
+    Eigen::Vector2d at() const { return {me().x, me().y}; }
 
-Eigen::Vector2d defender(const Field& field, const RobotState& r, double side, const BallState& ball, Team team) {
-    const double s = defendedSide(team);
-    const Eigen::Vector2d goal = goalCentre(field, static_cast<int>(s));
-    const Eigen::Vector2d b(ball.x, ball.y);
-    Eigen::Vector2d spot = goal + kDefenderDistance * (b - goal).normalized();
-    // Keep out of the own goal area (two defenders there is a penalty).
-    const double front = 0.5 * field.length - field.dimensions.goal_area_depth - 0.06;
-    if (s * spot.x() > front && std::abs(spot.y()) < 0.5 * field.dimensions.goal_area_width + 0.06)
-        spot.x() = s * front;
-    // The ball on our side and nearer to us than to the spot: clear it.
-    if (s * ball.x > 0.0 && (b - Eigen::Vector2d(r.x, r.y)).norm() < 0.15 && !inGoalArea(field, static_cast<int>(s), b))
-        return attacker(field, r, side, ball, goalCentre(field, -static_cast<int>(s)));
-    return goTo(r, reachable(field, spot, side), kCruise);
-}
+    // Towards `target`, going round the first robot in the way: one within
+    // kClear of the straight path in the next kLookAhead metres.
+    Eigen::Vector2d travel(const Eigen::Vector2d& target) const {
+        constexpr double kLookAhead = 0.25, kClear = 0.09, kDetour = 0.13;  // m
+        const Eigen::Vector2d d = target - at();
+        const double distance = d.norm();
+        if (distance < 1e-9) return goTo(me(), target, kCruise);
+        const Eigen::Vector2d u = d / distance;
+        double nearest = std::min(distance, kLookAhead);
+        Eigen::Vector2d detour = target;
+        for (std::size_t j = 0; j < state.robots.size(); ++j) {
+            if (j == self) continue;
+            const Eigen::Vector2d o = Eigen::Vector2d(state.robots[j].x, state.robots[j].y) - at();
+            const double ahead = o.dot(u), off = u.x() * o.y() - u.y() * o.x();
+            if (ahead <= 0.0 || ahead >= nearest || std::abs(off) >= kClear) continue;
+            nearest = ahead;
+            const Eigen::Vector2d left(-u.y(), u.x());
+            detour = at() + ahead * u + (off > 0.0 ? -kDetour : kDetour) * left;  // pass on the far side
+        }
+        return goTo(me(), reachable(field, detour, side), kCruise);
+    }
+
+    // Get behind the ball on its line to `aim` and drive it there.
+    Eigen::Vector2d attack(const BallState& ball, const Eigen::Vector2d& aim) const {
+        const Eigen::Vector2d b(ball.x, ball.y);
+        const Eigen::Vector2d toGoal = (aim - b).normalized();
+        const Eigen::Vector2d fromMe = b - at();
+        const double along = fromMe.dot(toGoal);  // > 0: I am on the right side of the ball
+        const double across = std::abs(toGoal.x() * fromMe.y() - toGoal.y() * fromMe.x());
+        // Lined up behind the ball: drive through it.
+        if (along > 0.0 && across < 0.03 &&
+            std::acos(std::clamp(fromMe.normalized().dot(toGoal), -1.0, 1.0)) < kLinedUp)
+            return goTo(me(), b + 0.2 * toGoal, kCruise);
+        // Otherwise go round to the spot behind it, keeping clear of the ball
+        // when coming from the wrong side.
+        const Eigen::Vector2d behind = b - kBehindBall * toGoal;
+        Eigen::Vector2d target = behind;
+        if (along < 0.02) {
+            const Eigen::Vector2d sideways(-toGoal.y(), toGoal.x());
+            const double sign = sideways.dot(at() - b) >= 0.0 ? 1.0 : -1.0;
+            target = behind + sign * 0.08 * sideways;
+        }
+        const Eigen::Vector2d spot = reachable(field, target, side);
+        // The spot behind the ball is against a wall: push the ball from
+        // where I am if I am on the right side of it.
+        if ((spot - target).norm() > 0.02 && along > 0.0) return goTo(me(), b + 0.1 * fromMe.normalized(), kCruise);
+        return travel(spot);
+    }
+
+    Eigen::Vector2d keepGoal(const BallState& ball) const {
+        const double s = defendedSide(team);
+        const double hx = 0.5 * field.length;
+        const double reach = 0.5 * field.dimensions.goal_width;
+        const Eigen::Vector2d b(ball.x, ball.y);
+        // The ball slow in our goal area: clear it towards the other goal (a
+        // ball stuck there is a penalty against us).
+        if (inGoalArea(field, static_cast<int>(s), b) && std::hypot(ball.vx, ball.vy) < 0.2 && s * ball.x < hx)
+            return attack(ball, goalCentre(field, -static_cast<int>(s)));
+        // Follow the ball's line across the goal mouth, predicting a little.
+        const double y = std::clamp(ball.y + 0.1 * ball.vy, -reach, reach);
+        const Eigen::Vector2d spot(s * (hx - kKeeperOffset), y);
+        if ((spot - at()).norm() < 0.015) return faceAlong(me(), 0.5 * kPi);
+        return goTo(me(), spot, kCruise);
+    }
+
+    Eigen::Vector2d defend(const BallState& ball) const {
+        const double s = defendedSide(team);
+        const Eigen::Vector2d goal = goalCentre(field, static_cast<int>(s));
+        const Eigen::Vector2d b(ball.x, ball.y);
+        Eigen::Vector2d spot = goal + kDefenderDistance * (b - goal).normalized();
+        // Keep out of the own goal area (two defenders there is a penalty).
+        const double front = 0.5 * field.length - field.dimensions.goal_area_depth - 0.06;
+        if (s * spot.x() > front && std::abs(spot.y()) < 0.5 * field.dimensions.goal_area_width + 0.06)
+            spot.x() = s * front;
+        // The ball on our side and near me: clear it.
+        if (s * ball.x > 0.0 && (b - at()).norm() < 0.15 && !inGoalArea(field, static_cast<int>(s), b))
+            return attack(ball, goalCentre(field, -static_cast<int>(s)));
+        return travel(reachable(field, spot, side));
+    }
+};
 
 }  // namespace
 
@@ -153,16 +186,16 @@ void sparringVoltages(const WorldModel& model, const WorldState& state, const st
     for (std::size_t i = 0; i < teams.size(); ++i) {
         if (teams[i] != team) continue;
         const RobotState& r = state.robots[i];
+        const Player player{model.field, state, i, model.sides[i], team};
         Eigen::Vector2d u;
         if (static_cast<int>(i) == keeper && hasGoals(model.field)) {
-            u = goalkeeper(model.field, r, state.ball, team);
+            u = player.keepGoal(state.ball);
         } else {
             const int players = static_cast<int>(std::count(teams.begin(), teams.end(), team)) - (keeper >= 0 ? 1 : 0);
             // With two or more field players the first defends.
             const bool defends = players >= 2 && order == 0 && hasGoals(model.field);
-            u = defends
-                    ? defender(model.field, r, model.sides[i], state.ball, team)
-                    : attacker(model.field, r, model.sides[i], state.ball, aimPoint(model.field, state, teams, team));
+            u = defends ? player.defend(state.ball)
+                        : player.attack(state.ball, aimPoint(model.field, state, teams, team));
             ++order;
         }
         voltages[i] = voltagesFor(model.robots[i], r, u(0), u(1));

@@ -23,7 +23,13 @@ namespace vssim {
 
 class Match {
 public:
-    explicit Match(const Scene& scene);
+    // `seed` varies the game: with a seed other than 0 every robot the
+    // referee places is moved by up to kPlacementJitter and turned by up to
+    // kHeadingJitter from its spot (splitmix64 from the seed; a placement
+    // the jitter would make illegal is used as it is). Seed 0: no jitter.
+    static constexpr double kPlacementJitter = 0.005;  // m
+    static constexpr double kHeadingJitter = 0.05;     // rad
+    explicit Match(const Scene& scene, std::uint64_t seed = 0);
 
     const Scene& scene() const { return sim_.scene(); }
     const Simulation& simulation() const { return sim_; }
@@ -72,10 +78,15 @@ private:
     std::int64_t tickSteps_ = 1;
     std::vector<Voltages> remote_;  // the remote teams' last voltages, V
     std::vector<Voltages> wanted_;  // scratch: the voltages to apply
+    std::uint64_t random_;          // splitmix64 state
+    bool jitter_;                   // a seed other than 0 was given
 
     void tick();           // the referee, then the voltages, at a tick boundary
     void applyVoltages();  // what every robot gets now
     void place(const Placement& placement);
+    // The referee's placement for a call, jittered by the seed.
+    void placeFor(const RefereeCall& call);
+    double uniform();  // in [-1, 1), from the seed
     bool playing() const { return game_.phase == GamePhase::GameOn; }
 };
 
