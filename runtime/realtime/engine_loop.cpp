@@ -43,6 +43,10 @@ void EngineLoop::updateFrameSteps() {
 
 void EngineLoop::start(std::int64_t nowNs) {
     reanchor(nowNs);
+    // Nobody is there yet to be told of the game's start: the ones who come
+    // read it from the snapshots (WELCOME), and hear of its changes.
+    const GameState& g = match_->game();
+    told_ = GameMark{g.phase, g.calls.size(), g.half, g.goals};
     emitInstant(nowNs);
 }
 

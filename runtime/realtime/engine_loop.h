@@ -88,7 +88,8 @@ public:
         (void)nowNs;
     }
     // The game's state changed (phase, call, half or score; with a referee
-    // only), or the game started: at start, reset and a new scene. `frame`
+    // only), or the game started again: at a reset and a new scene (not at
+    // start(), before anyone could listen). `frame`
     // is the camera instant it comes before (or the current one, after a
     // request). Nothing by default.
     virtual void gameChanged(const Match& match, std::int64_t frame, std::int64_t nowNs) {
