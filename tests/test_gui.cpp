@@ -29,11 +29,15 @@ using namespace vssim;
 
 namespace {
 
+// The kick-off's bodies as plain physics: the built-in scene is a match of
+// the built-in team against itself, but here nothing moves unless the test
+// moves it (no referee, both teams remote, no commands).
 Scene kickoff() {
     QString error;
     std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
     if (!scene) qFatal("%s", qPrintable(error));
-    scene->commands.clear();  // nothing moves unless the test moves it
+    scene->commands.clear();
+    scene->game = GameSettings{};
     return *scene;
 }
 
@@ -219,6 +223,45 @@ private slots:
             return s.control[0].controller == RobotController::Tcp && s.voltages[0].right == -5.0;
         }));
         QCOMPARE(w.manualRobot(), -1);
+    }
+
+    void theDefaultSceneIsAMatchAndTheKeyboardOverridesTheBuiltinTeam() {
+        // The built-in kick-off as it is: the referee and the built-in team on both sides.
+        QString error;
+        const std::optional<Scene> match = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
+        QVERIFY2(match, qPrintable(error));
+        MainWindow w(*match, ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::Stop; }));
+        QCOMPARE(w.session().latest()->gameSettings.yellow, TeamControl::Builtin);
+        // GAME_ON without waiting the 4 s; the built-in teams play.
+        w.session().post(EngineRequest::Kind::ResumeGame);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::GameOn; }));
+        const Snapshot on = *w.session().latest();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) {
+            return std::hypot(s.robots[4].x - on.robots[4].x, s.robots[4].y - on.robots[4].y) > 0.02;
+        }));
+        // The keyboard takes yellow2 (the built-in team's) over: W drives it at
+        // 60 % of 7.4 V. (Paused, so that the click finds it where it is.)
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        const RobotState r2 = w.session().latest()->robots[2];
+        QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r2.x, r2.y));
+        QCOMPARE(view.selectedRobot(), 2);
+        QTest::keyPress(&view, Qt::Key_W);
+        QVERIFY(waitFor(w, [](const Snapshot& s) {
+            return s.control[2].controller == RobotController::Manual &&
+                   std::abs(s.voltages[2].right - 0.6 * 7.4) < 1e-12 && s.voltages[2].left == s.voltages[2].right;
+        }));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return !s.paused; }));
+        QTest::qWait(100);  // ten ticks of the built-in team later: still the person's
+        QVERIFY(std::abs(w.session().latest()->voltages[2].right - 0.6 * 7.4) < 1e-12);
+        QTest::keyRelease(&view, Qt::Key_W);
+        QTest::keyClick(&view, Qt::Key_Escape);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.control[2].controller != RobotController::Manual; }));
     }
 
     void pauseStepReset() {

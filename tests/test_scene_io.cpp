@@ -60,6 +60,10 @@ private slots:
     void badField();
     void placementUsesTheRealFloor();
     void officialFloorArea();
+    void gameDefaultsAndKeys();
+    void gameRoundTripIsExact();
+    void badGame_data();
+    void badGame();
 };
 
 void TestSceneIo::emptySceneHasModelDefaults() {
@@ -443,6 +447,19 @@ void TestSceneIo::exampleScenesLoad() {
     // The kick-off is played on the official 3 vs 3 field; the paper's experiment stays in its box.
     QString error;
     QCOMPARE(loadSceneFile(dir.filePath("kickoff_3v3.json"), &error)->field.dimensions.type, FieldType::Vsss3v3);
+    // The kick-off is a match, the built-in team on both sides, with no scripted voltages;
+    // vs_builtin_3v3 leaves yellow to a client.
+    const Scene kickoff = *loadSceneFile(dir.filePath("kickoff_3v3.json"), &error);
+    QVERIFY(kickoff.game.rules.referee);
+    QCOMPARE(kickoff.game.yellow, TeamControl::Builtin);
+    QCOMPARE(kickoff.game.blue, TeamControl::Builtin);
+    QVERIFY(kickoff.commands.empty());
+    const Scene versus = *loadSceneFile(dir.filePath("vs_builtin_3v3.json"), &error);
+    QVERIFY(versus.game.rules.referee);
+    QCOMPARE(versus.game.yellow, TeamControl::Remote);
+    QCOMPARE(versus.game.blue, TeamControl::Builtin);
+    // The physics scenes have no game.
+    QVERIFY(!loadSceneFile(dir.filePath("robot_hits_ball.json"), &error)->game.rules.referee);
     QCOMPARE(loadSceneFile(dir.filePath("paper_fig13.json"), &error)->field.dimensions.type, FieldType::Box);
 }
 
@@ -663,6 +680,120 @@ void TestSceneIo::officialFloorArea() {
     QVERIFY2(parseScene(crowd(179), &error), qPrintable(error));
     QVERIFY(!parseScene(crowd(180), &error));
     QVERIFY2(error.contains("more than 50% of the field's 2.02 m²"), qPrintable(error));
+}
+
+void TestSceneIo::gameDefaultsAndKeys() {
+    QString error;
+    // Without a game section: no referee, both teams remote, the rules' defaults.
+    const std::optional<Scene> plain = parseScene("{}", &error);
+    QVERIFY2(plain, qPrintable(error));
+    const GameRules defaults;
+    QVERIFY(!plain->game.rules.referee);
+    QCOMPARE(plain->game.yellow, TeamControl::Remote);
+    QCOMPARE(plain->game.blue, TeamControl::Remote);
+    QCOMPARE(plain->game.rules.half_duration, defaults.half_duration);
+    // Each key lands in its field; the others keep their defaults.
+    const std::optional<Scene> s = parseScene(R"({"field": {"type": "vsss_3v3"}, "simulation": {"dt": 0.002},
+        "game": {"referee": true, "halves": 4, "half_duration": 60, "stop_duration": 0, "stuck_ball_speed": 0.05,
+                 "stuck_ball_time": 2.5, "crowded_area_time": 1, "free_ball_distance": 0.25, "tick": 0.02,
+                 "yellow": "builtin", "blue": "idle"}})",
+                                              &error);
+    QVERIFY2(s, qPrintable(error));
+    const GameRules& r = s->game.rules;
+    QVERIFY(r.referee);
+    QCOMPARE(r.halves, 4);
+    QCOMPARE(r.half_duration, 60.0);
+    QCOMPARE(r.stop_duration, 0.0);
+    QCOMPARE(r.stuck_ball_speed, 0.05);
+    QCOMPARE(r.stuck_ball_time, 2.5);
+    QCOMPARE(r.crowded_area_time, 1.0);
+    QCOMPARE(r.free_ball_distance, 0.25);
+    QCOMPARE(r.tick, 0.02);
+    QCOMPARE(s->game.yellow, TeamControl::Builtin);
+    QCOMPARE(s->game.blue, TeamControl::Idle);
+    // A tick of exactly one step is fine; so is one of 0.003 s at dt 0.001 s (rounding included).
+    QVERIFY2(parseScene(R"({"simulation": {"dt": 0.0005}, "game": {"tick": 0.0005, "yellow": "builtin"}})", &error),
+             qPrintable(error));
+    QVERIFY2(parseScene(R"({"game": {"tick": 0.003, "yellow": "builtin"}})", &error), qPrintable(error));
+    // Nothing acts at the tick without a referee or a built-in team: it is not checked against dt then
+    // (a physics scene written back with another dt still reads).
+    QVERIFY2(parseScene(R"({"simulation": {"dt": 0.0007}, "game": {"tick": 0.01}})", &error), qPrintable(error));
+}
+
+void TestSceneIo::gameRoundTripIsExact() {
+    Scene s;
+    s.field = makeField(officialDimensions(FieldType::Vsss5v5));
+    s.game.rules = {true, 3, 100.0 / 3, 2.5, 0.07, 4.0 / 3, 2.0, 0.18, 0.005};
+    s.game.yellow = TeamControl::Idle;
+    s.game.blue = TeamControl::Builtin;
+    QString error;
+    const std::optional<Scene> back = parseScene(sceneToJson(s), &error);
+    QVERIFY2(back, qPrintable(error));
+    const GameRules& a = s.game.rules;
+    const GameRules& b = back->game.rules;
+    QCOMPARE(b.referee, a.referee);
+    QCOMPARE(b.halves, a.halves);
+    QCOMPARE(b.half_duration, a.half_duration);
+    QCOMPARE(b.stop_duration, a.stop_duration);
+    QCOMPARE(b.stuck_ball_speed, a.stuck_ball_speed);
+    QCOMPARE(b.stuck_ball_time, a.stuck_ball_time);
+    QCOMPARE(b.crowded_area_time, a.crowded_area_time);
+    QCOMPARE(b.free_ball_distance, a.free_ball_distance);
+    QCOMPARE(b.tick, a.tick);
+    QCOMPARE(back->game.yellow, TeamControl::Idle);
+    QCOMPARE(back->game.blue, TeamControl::Builtin);
+    // And the default game (a physics scene) comes back as it was.
+    const std::optional<Scene> plain = parseScene(sceneToJson(Scene{}), &error);
+    QVERIFY2(plain, qPrintable(error));
+    QVERIFY(!plain->game.rules.referee);
+    QCOMPARE(plain->game.yellow, TeamControl::Remote);
+}
+
+void TestSceneIo::badGame_data() {
+    QTest::addColumn<QByteArray>("json");
+    QTest::addColumn<QString>("message");
+    const QByteArray official = R"("field": {"type": "vsss_3v3"}, )";
+    QTest::newRow("not an object") << QByteArray(R"({"game": true})") << "game: expected an object";
+    QTest::newRow("unknown key") << QByteArray(R"({"game": {"referees": true}})")
+                                 << "game.referees: unknown key (expected one of: referee, halves,";
+    QTest::newRow("referee not bool") << QByteArray(R"({"game": {"referee": 1}})")
+                                      << "game.referee: expected true or false";
+    QTest::newRow("referee on a box") << QByteArray(R"({"game": {"referee": true}})")
+                                      << "game.referee: a referee needs a field with goals";
+    QTest::newRow("no halves") << QByteArray("{" + official + R"("game": {"halves": 0}})")
+                               << "game.halves: must be between 1 and 10 (got 0)";
+    QTest::newRow("half a half") << QByteArray("{" + official + R"("game": {"halves": 1.5}})")
+                                 << "game.halves: must be a whole number (got 1.5)";
+    QTest::newRow("half duration") << QByteArray(R"({"game": {"half_duration": 0}})")
+                                   << "game.half_duration: must be > 0 and <= 86400 s (got 0)";
+    QTest::newRow("stop duration") << QByteArray(R"({"game": {"stop_duration": -1}})")
+                                   << "game.stop_duration: must be between 0 and 600 s (got -1)";
+    QTest::newRow("stuck speed") << QByteArray(R"({"game": {"stuck_ball_speed": "slow"}})")
+                                 << "game.stuck_ball_speed: expected a number";
+    QTest::newRow("stuck time") << QByteArray(R"({"game": {"stuck_ball_time": -1}})")
+                                << "game.stuck_ball_time: must be > 0 and <= 3600 s (got -1)";
+    QTest::newRow("crowded time") << QByteArray(R"({"game": {"crowded_area_time": 0}})")
+                                  << "game.crowded_area_time: must be > 0 and <= 3600 s (got 0)";
+    QTest::newRow("free ball distance") << QByteArray(R"({"game": {"free_ball_distance": 2}})")
+                                        << "game.free_ball_distance: must be > 0 and <= 1 m (got 2)";
+    QTest::newRow("tick not whole steps")
+        << QByteArray(R"({"game": {"tick": 0.0105, "blue": "builtin"}})")
+        << "game.tick: must be a whole number of steps of simulation.dt (0.001 s; got 0.0105 s, 10.5 steps)";
+    QTest::newRow("tick below dt")
+        << QByteArray("{" + official + R"("simulation": {"dt": 0.002}, "game": {"referee": true, "tick": 0.001}})")
+        << "game.tick: must be at least one step of simulation.dt (0.002 s; got 0.001 s)";
+    QTest::newRow("tick zero") << QByteArray(R"({"game": {"tick": 0}})") << "game.tick: must be > 0 and <= 1 s (got 0)";
+    QTest::newRow("bad control") << QByteArray(R"({"game": {"yellow": "tcp"}})")
+                                 << R"(game.yellow: expected one of "builtin", "remote", "idle" (got "tcp"))";
+    QTest::newRow("control not a string") << QByteArray(R"({"game": {"blue": 1}})") << "game.blue: expected a string";
+}
+
+void TestSceneIo::badGame() {
+    QFETCH(QByteArray, json);
+    QFETCH(QString, message);
+    QString error;
+    QVERIFY(!parseScene(json, &error));
+    QVERIFY2(error.startsWith(message), qPrintable(error));
 }
 
 QTEST_GUILESS_MAIN(TestSceneIo)

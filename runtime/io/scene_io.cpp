@@ -31,6 +31,8 @@ const std::pair<const char*, Integrator> kIntegrators[] = {
 const std::pair<const char*, CollisionModel> kCollisionModels[] = {{"paper", CollisionModel::Paper},
                                                                    {"impulse", CollisionModel::Impulse}};
 const std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
+const std::pair<const char*, TeamControl> kTeamControls[] = {
+    {"builtin", TeamControl::Builtin}, {"remote", TeamControl::Remote}, {"idle", TeamControl::Idle}};
 const std::pair<const char*, FieldType> kFieldTypes[] = {
     {"box", FieldType::Box}, {"vsss_3v3", FieldType::Vsss3v3}, {"vsss_5v5", FieldType::Vsss5v5}};
 
@@ -93,6 +95,7 @@ private:
     bool ball(const QJsonObject& root, Scene& scene);
     bool robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene);
     bool commands(const QJsonObject& root, Scene& scene);
+    bool game(const QJsonObject& root, Scene& scene);
     bool insideField(const Scene& scene);
     bool bodiesFit(const Scene& scene);
 
@@ -328,6 +331,42 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
     return true;
 }
 
+bool SceneReader::game(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("game")) return true;
+    QJsonObject o;
+    GameSettings& g = scene.game;
+    GameRules& r = g.rules;
+    const QString path = "game";
+    double halves = r.halves;
+    if (!object(root.value(path), path, &o) ||
+        !keys(o, path,
+              {"referee", "halves", "half_duration", "stop_duration", "stuck_ball_speed", "stuck_ball_time",
+               "crowded_area_time", "free_ball_distance", "tick", "yellow", "blue"}) ||
+        !number(o, path, "halves", {1.0, static_cast<double>(kMaxHalves), false, ""}, &halves) ||
+        !number(o, path, "half_duration", kHalfDuration, &r.half_duration) ||
+        !number(o, path, "stop_duration", kStopDuration, &r.stop_duration) ||
+        !number(o, path, "stuck_ball_speed", kStuckBallSpeed, &r.stuck_ball_speed) ||
+        !number(o, path, "stuck_ball_time", kRuleTime, &r.stuck_ball_time) ||
+        !number(o, path, "crowded_area_time", kRuleTime, &r.crowded_area_time) ||
+        !number(o, path, "free_ball_distance", kFreeBallDistance, &r.free_ball_distance) ||
+        !number(o, path, "tick", kGameTick, &r.tick) || !choice(o, path, "yellow", kTeamControls, &g.yellow) ||
+        !choice(o, path, "blue", kTeamControls, &g.blue))
+        return false;
+    if (halves != std::floor(halves))
+        return fail(join(path, "halves"), QStringLiteral("must be a whole number (got %1)").arg(halves));
+    r.halves = static_cast<int>(halves);
+    if (o.contains("referee")) {
+        if (!o.value("referee").isBool()) return fail(join(path, "referee"), QStringLiteral("expected true or false"));
+        r.referee = o.value("referee").toBool();
+    }
+    // The tick matters only when something acts at it: the referee or a built-in team.
+    const bool ticking = r.referee || g.yellow == TeamControl::Builtin || g.blue == TeamControl::Builtin;
+    const QString tickProblem = ticking ? gameTickProblem(r.tick, scene.simulation.dt) : QString();
+    if (!tickProblem.isEmpty()) return fail(join(path, "tick"), tickProblem);
+    if (r.referee && !fieldHasGoals(scene.field)) return fail(join(path, "referee"), refereeFieldProblem());
+    return true;
+}
+
 bool SceneReader::insideField(const Scene& scene) {
     const Field& field = scene.field;
     const double hx = field.length / 2, hy = field.width / 2;
@@ -397,7 +436,7 @@ bool SceneReader::bodiesFit(const Scene& scene) {
 
 std::optional<Scene> SceneReader::read(const QJsonObject& root) {
     Scene scene;
-    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands"}))
+    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands", "game"}))
         return std::nullopt;
     double version = 1.0;
     if (!number(root, "", "version", kAny, &version)) return std::nullopt;
@@ -414,8 +453,8 @@ std::optional<Scene> SceneReader::read(const QJsonObject& root) {
             return std::nullopt;
     }
     if (!field(root, scene) || !simulation(root, scene) || !ball(root, scene) ||
-        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !insideField(scene) ||
-        !bodiesFit(scene))
+        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !game(root, scene) ||
+        !insideField(scene) || !bodiesFit(scene))
         return std::nullopt;
     return scene;
 }
@@ -459,6 +498,38 @@ std::optional<Integrator> integratorFromName(const QString& name) { return value
 QString collisionModelName(CollisionModel model) { return nameOf(kCollisionModels, model); }
 std::optional<CollisionModel> collisionModelFromName(const QString& name) { return valueOf(kCollisionModels, name); }
 QString teamName(Team team) { return nameOf(kTeams, team); }
+QString teamControlName(TeamControl control) { return nameOf(kTeamControls, control); }
+std::optional<TeamControl> teamControlFromName(const QString& name) { return valueOf(kTeamControls, name); }
+
+bool fieldHasGoals(const Field& field) { return field.dimensions.type != FieldType::Box; }
+
+QString refereeFieldProblem() {
+    return QStringLiteral("a referee needs a field with goals (field.type \"vsss_3v3\" or \"vsss_5v5\"), not a box");
+}
+
+QString gameTickProblem(double tick, double dt) {
+    const double steps = tick / dt;
+    if (tick < dt * (1.0 - 1e-9))
+        return QStringLiteral("must be at least one step of simulation.dt (%1 s; got %2 s)").arg(dt).arg(tick);
+    if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
+        return QStringLiteral("must be a whole number of steps of simulation.dt (%1 s; got %2 s, %3 steps)")
+            .arg(dt)
+            .arg(tick)
+            .arg(steps, 0, 'g', 10);
+    return {};
+}
+
+QJsonObject gameRulesToJson(const GameRules& r) {
+    return {{"referee", r.referee},
+            {"halves", r.halves},
+            {"half_duration", r.half_duration},
+            {"stop_duration", r.stop_duration},
+            {"stuck_ball_speed", r.stuck_ball_speed},
+            {"stuck_ball_time", r.stuck_ball_time},
+            {"crowded_area_time", r.crowded_area_time},
+            {"free_ball_distance", r.free_ball_distance},
+            {"tick", r.tick}};
+}
 QString fieldTypeName(FieldType type) { return nameOf(kFieldTypes, type); }
 std::optional<FieldType> fieldTypeFromName(const QString& name) { return valueOf(kFieldTypes, name); }
 
@@ -579,6 +650,10 @@ QByteArray sceneToJson(const Scene& scene) {
                                     {"right", c.voltages.right},
                                     {"left", c.voltages.left}});
     root["commands"] = commands;
+    QJsonObject game = gameRulesToJson(scene.game.rules);
+    game["yellow"] = teamControlName(scene.game.yellow);
+    game["blue"] = teamControlName(scene.game.blue);
+    root["game"] = game;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 

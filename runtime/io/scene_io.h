@@ -37,6 +37,8 @@ std::optional<Integrator> integratorFromName(const QString& name);
 QString collisionModelName(CollisionModel model);
 std::optional<CollisionModel> collisionModelFromName(const QString& name);
 QString teamName(Team team);
+QString teamControlName(TeamControl control);  // "builtin", "remote", "idle"
+std::optional<TeamControl> teamControlFromName(const QString& name);
 QString fieldTypeName(FieldType type);
 std::optional<FieldType> fieldTypeFromName(const QString& name);
 
@@ -69,6 +71,17 @@ QString resolveScenePath(const QString& argument);
 // from a regular file), anything else is "no such file or built-in scene"
 // with the built-in names.
 QString sceneNotFoundMessage(const QString& argument);
+
+// The game section's checks, shared with the command line (vssim serve
+// --referee): whether a field has goals (a referee needs them), and why a
+// game tick does not suit a step dt (it must be a whole number of steps,
+// at least one), or an empty string.
+bool fieldHasGoals(const Field& field);
+QString refereeFieldProblem();
+QString gameTickProblem(double tick, double dt);
+// The game rules as a scene file's `game` object writes them (without the
+// teams' controls), as WELCOME carries them.
+QJsonObject gameRulesToJson(const GameRules& rules);
 
 // Names of the built-in example scenes, sorted.
 QStringList builtinSceneNames();
