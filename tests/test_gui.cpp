@@ -12,6 +12,7 @@
 #include <QFileInfo>
 #include <QLabel>
 #include <QPointer>
+#include <QPushButton>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -24,6 +25,8 @@
 #include "main_window.h"
 #include "net/protocol_client.h"
 #include "remote_window.h"
+#include "scoreboard.h"
+#include "vssim/game/pitch.h"
 
 using namespace vssim;
 
@@ -262,6 +265,38 @@ private slots:
         QTest::keyRelease(&view, Qt::Key_W);
         QTest::keyClick(&view, Qt::Key_Escape);
         QVERIFY(waitFor(w, [](const Snapshot& s) { return s.control[2].controller != RobotController::Manual; }));
+    }
+
+    void theGameDockRunsTheGame() {
+        QString error;
+        const std::optional<Scene> match = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
+        QVERIFY2(match, qPrintable(error));
+        MainWindow w(*match, ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        auto* board = w.findChild<Scoreboard*>();
+        QVERIFY(board && board->isVisible());
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::Stop; }));
+        QTRY_COMPARE(board->scoreText(), QString("Yellow 0 : 0 Blue"));
+        QTRY_VERIFY(board->lastCallText().contains("Kick-off for yellow"));
+        board->findChild<QPushButton*>("scoreboard.gameOn")->click();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::GameOn; }));
+        QTRY_COMPARE(board->phaseText(), QString("GAME ON"));
+        // A free ball in quadrant 2, by hand: the ball on its mark.
+        board->findChild<QPushButton*>("scoreboard.freeBall2")->click();
+        QVERIFY(waitFor(w, [](const Snapshot& s) {
+            return s.game.last.call == Call::FreeBall && s.game.last.quadrant == 2 && s.game.phase == GamePhase::Stop;
+        }));
+        const Eigen::Vector2d mark = freeBallMark(w.session().scene().field, 2);
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.ball.x == mark.x() && s.ball.y == mark.y(); }));
+        QTRY_VERIFY(board->lastCallText().contains("Free ball, quadrant 2: by hand"));
+        board->findChild<QPushButton*>("scoreboard.halt")->click();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::Halt; }));
+        QTRY_COMPARE(board->phaseText(), QString("HALT"));
+        // Blue played by nobody from now on.
+        auto* blue = board->findChild<QComboBox*>("scoreboard.blueControl");
+        blue->setCurrentIndex(blue->findData(int(TeamControl::Idle)));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.gameSettings.blue == TeamControl::Idle; }));
     }
 
     void pauseStepReset() {

@@ -37,6 +37,7 @@
 #include "robot_inspector.h"
 #include "scene_parameters_dialog.h"
 #include "scene_value_ranges.h"
+#include "scoreboard.h"
 #include "status_text.h"
 #include "wire/protocol.h"
 
@@ -156,7 +157,7 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
     setRefreshRate(30.0);
     updateTitle();
     resize(1280, 860);
-    resizeDocks({robotDock_}, {430}, Qt::Horizontal);
+    resizeDocks({robotDock_, findChild<QDockWidget*>("dock.game")}, {360, 220}, Qt::Horizontal);
 }
 
 MainWindow::~MainWindow() { timer_.stop(); }
@@ -188,6 +189,28 @@ void MainWindow::buildDocks() {
     camera_ = new CameraView;
     QDockWidget* cameraDock =
         dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
+
+    scoreboard_ = new Scoreboard;
+    QDockWidget* gameDock = dock(tr("Game"), scoreboard_, Qt::LeftDockWidgetArea, "dock.game");
+    scoreboard_->setMinimumWidth(200);
+    connect(scoreboard_, &Scoreboard::gameOnRequested, this,
+            [this] { session_->post(EngineRequest::Kind::ResumeGame); });
+    connect(scoreboard_, &Scoreboard::haltRequested, this, [this] { session_->post(EngineRequest::Kind::HaltGame); });
+    connect(scoreboard_, &Scoreboard::callRequested, this, [this](Call call, Team team, int quadrant) {
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::CallFoul;
+        r.call = call;
+        r.team = team;
+        r.quadrant = quadrant;
+        session_->post(std::move(r));
+    });
+    connect(scoreboard_, &Scoreboard::teamControlRequested, this, [this](Team team, TeamControl control) {
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::SetTeamControl;
+        r.team = team;
+        r.control = control;
+        session_->post(std::move(r));
+    });
 
     connections_ = new ConnectionsPanel;
     connections_->setMaximumHeight(170);
@@ -225,6 +248,7 @@ void MainWindow::buildDocks() {
     for (QWidget* w : {static_cast<QWidget*>(robotPanel), static_cast<QWidget*>(camera_), drive})
         w->setMinimumWidth(300);
     resizeDocks({robotDock}, {380}, Qt::Horizontal);
+    resizeDocks({findChild<QDockWidget*>("dock.game")}, {220}, Qt::Horizontal);
     connect(release, &QPushButton::clicked, this, &MainWindow::releaseManual);
     connect(joystick_, &JoystickWidget::moved, this, [this](double x, double y) { onStick(x, y, false); });
 
@@ -598,6 +622,9 @@ void MainWindow::refresh() {
         camera_->showSnapshot(*snapshot);
         cameraSnapshot_ = snapshot;
     }
+    if (tick_ % 3 == 0)
+        scoreboard_->setGame(snapshot->game, snapshot->gameSettings.rules, snapshot->gameSettings.yellow,
+                             snapshot->gameSettings.blue);
     if (nowMs - lastConnectionsMs_ >= 1000) {
         connections_->setClients(session_->server().clients(), 1e-3 * static_cast<double>(nowMs - lastConnectionsMs_));
         lastConnectionsMs_ = nowMs;

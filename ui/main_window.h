@@ -28,6 +28,7 @@ namespace vssim {
 
 class CameraView;
 class ConnectionsPanel;
+class Scoreboard;
 class FieldView;
 class GamepadInput;
 class JoystickWidget;
@@ -82,6 +83,7 @@ private:
     LivePlots* plots_ = nullptr;
     CameraView* camera_ = nullptr;
     ConnectionsPanel* connections_ = nullptr;
+    Scoreboard* scoreboard_ = nullptr;
     JoystickWidget* joystick_ = nullptr;
     GamepadInput* gamepad_ = nullptr;
     QLabel* driveStatus_ = nullptr;

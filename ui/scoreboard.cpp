@@ -58,6 +58,7 @@ Scoreboard::Scoreboard(QWidget* parent) : QWidget(parent) {
     clock_ = new QLabel(this);
     clock_->setObjectName("scoreboard.clock");
     clock_->setAlignment(Qt::AlignCenter);
+    clock_->setWordWrap(true);
     phase_ = new QLabel(this);
     phase_->setObjectName("scoreboard.phase");
     phase_->setAlignment(Qt::AlignCenter);
@@ -99,12 +100,16 @@ Scoreboard::Scoreboard(QWidget* parent) : QWidget(parent) {
     addCall(tr("Kick-off"), "scoreboard.kickOff", Call::KickOff, 0, 2, 0, 2);
     addCall(tr("Penalty"), "scoreboard.penalty", Call::PenaltyKick, 0, 2, 2, 1);
     addCall(tr("Goal kick"), "scoreboard.goalKick", Call::GoalKick, 0, 2, 3, 1);
-    for (int q = 1; q <= 4; ++q)
-        addCall(tr("Free ball Q%1").arg(q), QByteArray("scoreboard.freeBall") + QByteArray::number(q), Call::FreeBall,
-                q, 3, q - 1, 1);
+    referee->addWidget(new QLabel(tr("Free ball in"), this), 3, 0, 1, 4);
+    for (int q = 1; q <= 4; ++q) {
+        addCall(tr("Q%1").arg(q), QByteArray("scoreboard.freeBall") + QByteArray::number(q), Call::FreeBall, q, 4,
+                q - 1, 1);
+        callButtons_.back()->setToolTip(tr("Free ball in quadrant %1 (counter-clockwise from x > 0, y > 0)").arg(q));
+    }
     layout->addLayout(referee);
 
     auto* teams = new QFormLayout;
+    teams->setRowWrapPolicy(QFormLayout::WrapAllRows);
     auto chooser = [this](Team team, const char* name) {
         auto* box = new QComboBox(this);
         box->setObjectName(name);
