@@ -182,31 +182,37 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
 
 namespace {
 
-// The ball against the chain of walls. On the floor: each wall whose nearest
-// point is within r_b, a corner of the chain counting for the wall that
-// starts there only (a ball on a post touches it once). Off the floor (it
-// tunnelled): one deep contact with the nearest wall, back towards the floor.
-void appendBallWallContacts(const Field& field, const BallState& ball, double radius,
-                            std::vector<Contact>& contacts) {
+bool contains(const std::array<int, 3>& walls, int w) {
+    return std::find(walls.begin(), walls.end(), w) != walls.end();
+}
+
+// The ball against the chain of walls (model.md §5: centre within r_b of the
+// wall). A wall whose line the centre is on the floor side of: the nearest
+// point of the segment, a post counting for the wall that starts there only
+// (a ball on a post touches it once). A wall whose line the centre is
+// behind (it tunnelled, or was pressed in by a robot): a deep contact along
+// the wall's normal, as in the seed's box, but only for the walls it is past
+// (wallsPast), since on a chain with goals the lines of the goal lines and
+// of the goals' side walls run over the floor.
+void appendBallWallContacts(const Field& field, const BallState& ball, double radius, std::vector<Contact>& contacts) {
     const Eigen::Vector2d c(ball.x, ball.y);
-    if (!onFloor(field, c)) {
-        const NearestWall nearest = nearestWall(field, c);
-        if (nearest.wall < 0) return;
-        Contact k;
-        k.a = {BodyKind::Ball, 0};
-        k.b = {BodyKind::Wall, nearest.wall};
-        k.normal = nearest.distance > 1e-12 ? Eigen::Vector2d((nearest.point - c) / nearest.distance)
-                                            : field.walls[nearest.wall].normal;
-        k.depth = radius + nearest.distance;
-        k.point = nearest.point;
-        contacts.push_back(k);
-        return;
-    }
+    if (clearOfWalls(field, c, radius)) return;
+    std::array<int, 3> past{-1, -1, -1};
+    bool pastKnown = false;
     const int walls = static_cast<int>(field.walls.size());
     for (int w = 0; w < walls; ++w) {
         const Wall& wall = field.walls[w];
+        const double signedDistance = wallSignedDistance(wall, c);
+        if (signedDistance >= radius) continue;
+        if (signedDistance < 0.0) {
+            if (!pastKnown) past = wallsPast(field, c, c), pastKnown = true;
+            if (!contains(past, w)) continue;
+            if (auto k = ballWallContact(ball, radius, wall, w)) contacts.push_back(*k);
+            continue;
+        }
         const SegmentClosestPoint q = closestPointOnSegment(wall.a, wall.b, c);
-        if (q.distance >= radius || q.lambda >= 1.0) continue;
+        if (q.distance >= radius) continue;
+        if (q.lambda >= 1.0 && field.startsAtPost[(w + 1) % walls]) continue;  // the next wall's post
         Contact k;
         k.a = {BodyKind::Ball, 0};
         k.b = {BodyKind::Wall, w};
@@ -217,31 +223,41 @@ void appendBallWallContacts(const Field& field, const BallState& ball, double ra
     }
 }
 
-// A robot against the chain of walls: each vertex off the floor is past the
-// wall nearest to it (the paper's vertex test, model.md §5, with the wall
-// chosen by distance, so that a robot inside a goal is not also "past" the
-// goal line), and each post (a corner of the chain pointing into the floor)
-// inside the square pushes the robot back along the face nearest to it.
+// A robot against the chain of walls. The paper's vertex test (model.md §5):
+// each vertex is past the walls wallsPast finds (in the box, every wall whose
+// line it is beyond, as before; near a post, the one wall the robot came
+// through). Then each post (a corner of the chain pointing into the floor)
+// inside the square, which no vertex test sees (a face pressed against a
+// post), pushes the robot back out through the face nearest to it.
 void appendRobotWallContacts(const Field& field, const RobotState& robot, double side, int robotIndex,
                              std::vector<Contact>& contacts) {
     const Eigen::Vector2d c = centre(robot);
     // Cheap rejection: nothing of the robot reaches past half a diagonal from its centre.
-    if (onFloor(field, c) && nearestWall(field, c).distance > boundingRadius(side)) return;
+    if (clearOfWalls(field, c, boundingRadius(side))) return;
     const auto vertices = robotVertices(robot, side);
-    std::array<int, 4> pastWall{-1, -1, -1, -1};
-    for (int j = 0; j < 4; ++j)
-        if (!onFloor(field, vertices[j])) pastWall[j] = nearestWall(field, vertices[j]).wall;
-    const int walls = static_cast<int>(field.walls.size());
-    for (int w = 0; w < walls; ++w) {
-        if (std::find(pastWall.begin(), pastWall.end(), w) == pastWall.end()) continue;
+    std::array<std::array<int, 3>, 4> past;
+    std::array<int, 12> touched;
+    int count = 0;
+    for (int j = 0; j < 4; ++j) {
+        past[j] = {-1, -1, -1};
+        if (clearOfWalls(field, vertices[j], 0.0)) continue;
+        past[j] = wallsPast(field, vertices[j], c);
+        for (int w : past[j])
+            if (w >= 0 && std::find(touched.begin(), touched.begin() + count, w) == touched.begin() + count)
+                touched[count++] = w;
+    }
+    std::sort(touched.begin(), touched.begin() + count);  // contacts in wall order (deterministic)
+    for (int t = 0; t < count; ++t) {
+        const int w = touched[t];
         if (auto k = vertexWallContact(robot, side, robotIndex, field.walls[w], w,
-                                       [&pastWall, w](int j) { return pastWall[j] == w; }))
+                                       [&past, w](int j) { return contains(past[j], w); }))
             contacts.push_back(*k);
     }
     const double half = 0.5 * side;
+    const int walls = static_cast<int>(field.walls.size());
     for (int w = 0; w < walls; ++w) {
+        if (!field.startsAtPost[w]) continue;
         const Eigen::Vector2d& post = field.walls[w].a;
-        if (std::find(field.posts.begin(), field.posts.end(), post) == field.posts.end()) continue;
         const Eigen::Vector2d local = toRobotFrame(robot, post);
         const double alongX = half - std::abs(local.x()), alongY = half - std::abs(local.y());
         if (!(alongX > 0.0 && alongY > 0.0)) continue;  // the post is not inside the square

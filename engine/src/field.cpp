@@ -1,5 +1,6 @@
 #include "vssim/field.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vssim/geometry.h"
@@ -46,19 +47,25 @@ FieldProblem checkFieldDimensions(const FieldDimensions& d) {
     if (!(finiteAtLeast(d.width, 0.0) && d.width > 0.0)) return {"width", "must be a positive length"};
     const char* nonNegative = "must be zero or a positive length";
     const std::pair<const char*, double> lengths[] = {
-        {"goal_width", d.goal_width},       {"goal_depth", d.goal_depth},           {"corner_leg", d.corner_leg},
-        {"centre_radius", d.centre_radius}, {"goal_area_depth", d.goal_area_depth}, {"goal_area_width", d.goal_area_width},
-        {"penalty_mark", d.penalty_mark},   {"free_ball_x", d.free_ball_x},         {"free_ball_y", d.free_ball_y},
+        {"goal_width", d.goal_width},           {"goal_depth", d.goal_depth},
+        {"corner_leg", d.corner_leg},           {"centre_radius", d.centre_radius},
+        {"goal_area_depth", d.goal_area_depth}, {"goal_area_width", d.goal_area_width},
+        {"penalty_mark", d.penalty_mark},       {"free_ball_x", d.free_ball_x},
+        {"free_ball_y", d.free_ball_y},
     };
     for (const auto& [key, value] : lengths)
         if (!finiteAtLeast(value, 0.0)) return {key, nonNegative};
     const double shorter = std::min(d.length, d.width);
-    if (!(2.0 * d.corner_leg < shorter)) return {"corner_leg", "the corner triangles would meet: twice the leg must be under the field's shorter side"};
+    if (!(2.0 * d.corner_leg < shorter))
+        return {"corner_leg", "the corner triangles would meet: twice the leg must be under the field's shorter side"};
     if (!(d.goal_width < d.width - 2.0 * d.corner_leg))
-        return {"goal_width", "the goal is wider than its wall: it must be narrower than the width minus two corner legs"};
-    if (d.goal_width > 0.0 && !(d.goal_depth > 0.0)) return {"goal_depth", "a field with goals needs goals at least some depth deep"};
+        return {"goal_width",
+                "the goal is wider than its wall: it must be narrower than the width minus two corner legs"};
+    if (d.goal_width > 0.0 && !(d.goal_depth > 0.0))
+        return {"goal_depth", "a field with goals needs goals at least some depth deep"};
     if (!(d.centre_radius < 0.5 * shorter)) return {"centre_radius", "the centre circle must fit inside the field"};
-    if (!(d.goal_area_depth < 0.5 * d.length)) return {"goal_area_depth", "a goal area must end before the halfway line"};
+    if (!(d.goal_area_depth < 0.5 * d.length))
+        return {"goal_area_depth", "a goal area must end before the halfway line"};
     if (!(d.goal_area_width <= d.width)) return {"goal_area_width", "a goal area cannot be wider than the field"};
     if (!(d.penalty_mark <= 0.5 * d.length)) return {"penalty_mark", "the penalty mark must lie in its own half"};
     if (!(d.free_ball_x <= 0.5 * d.length)) return {"free_ball_x", "the free-ball marks must lie in their own half"};
@@ -94,13 +101,19 @@ Field makeField(const FieldDimensions& dimensions) {
         field.walls.push_back({a, b, leftNormal(a, b)});
     }
     // A corner where the chain turns clockwise points into the floor.
+    field.startsAtPost.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         const V in = corners[i] - corners[(i + n - 1) % n];
         const V out = corners[(i + 1) % n] - corners[i];
-        if (in.x() * out.y() - in.y() * out.x() < 0.0) field.posts.push_back(corners[i]);
+        if (in.x() * out.y() - in.y() * out.x() < 0.0) {
+            field.posts.push_back(corners[i]);
+            field.startsAtPost[i] = 1;  // wall i starts at corner i
+        }
     }
     field.lower = V(-hx - depth, -hy);
     field.upper = V(hx + depth, hy);
+    field.clearHalf = V(hx, hy);
+    field.clearDiagonal = hx + hy - c;
     return field;
 }
 
@@ -121,6 +134,77 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p) {
             best.point = q.point;
             best.distance = q.distance;
         }
+    }
+    return best;
+}
+
+bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r) {
+    // Every wall lies on the lines |x| = hx, |y| = hy or |x| + |y| = hx + hy - c,
+    // or beyond them, and the corner triangles' lines are sqrt2 r away when
+    // |x| + |y| is sqrt2 r short of them (1.5 r: rounding cannot matter). The
+    // margin keeps the test conservative against the rounding of the exact
+    // tests it lets the callers skip.
+    constexpr double kMargin = 1e-9;  // m
+    const double ax = std::abs(p.x()), ay = std::abs(p.y()), reach = r + kMargin;
+    return ax + reach < field.clearHalf.x() && ay + reach < field.clearHalf.y() &&
+           ax + ay + 1.5 * reach < field.clearDiagonal;
+}
+
+std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& from) {
+    std::array<int, 3> past{-1, -1, -1};
+    const int n = static_cast<int>(field.walls.size());
+    const NearestWall nearest = nearestWall(field, p);
+    if (nearest.wall < 0) return past;
+    const int w = nearest.wall, prev = (w + n - 1) % n, next = (w + 1) % n;
+    auto beyond = [&](int k) { return wallSignedDistance(field.walls[k], p) < 0.0; };
+    auto inFront = [&](int k) { return wallSignedDistance(field.walls[k], from) > 0.0; };
+    const bool postAtA = field.startsAtPost[w] != 0, postAtB = field.startsAtPost[next] != 0;
+    // Beyond both walls of a post: inside the post's solid corner, which a
+    // body enters through one wall or the other. The nearest wall would push
+    // a robot sliding along the goal line into the goal, or one inside the
+    // goal out through the post; the body's centre tells which way it came.
+    auto atPost = [&](int in, int out) {
+        const bool fromIn = inFront(in), fromOut = inFront(out);
+        const int k = fromIn && !fromOut ? in : fromOut && !fromIn ? out : w;
+        past[0] = k;
+        return past;
+    };
+    // Only near the post: the lines run on over the floor and the solid
+    // beyond it, so a point beyond both may be at the far end of a goal's
+    // side wall, in the back corner.
+    auto nearPost = [&](int in, int out) {
+        const Eigen::Vector2d& post = field.walls[out].a;
+        const double d = (p - post).squaredNorm();
+        return beyond(in) && beyond(out) && d < (p - field.walls[in].a).squaredNorm() &&
+               d < (p - field.walls[out].b).squaredNorm();
+    };
+    if (postAtA && nearPost(prev, w)) return atPost(prev, w);
+    if (postAtB && nearPost(w, next)) return atPost(w, next);
+    // Elsewhere (a corner of the chain pointing away from the floor: the
+    // box's corners, the corner triangles' ends, the back of the goal), p is
+    // past each wall whose line it is beyond, as in the paper's box.
+    int order[3] = {prev, w, next};
+    std::sort(order, order + 3);  // in increasing index order (prev is the highest when w is 0)
+    int count = 0;
+    for (int k : order) {
+        if ((k == prev && postAtA) || (k == next && postAtB)) continue;  // not across a post
+        if (beyond(k)) past[count++] = k;
+    }
+    return past;
+}
+
+double wallClearance(const Field& field, const Eigen::Vector2d& p) {
+    if (!clearOfWalls(field, p, 0.0) && !onFloor(field, p)) return -INFINITY;
+    double best = INFINITY;
+    for (const Wall& w : field.walls) {
+        const Eigen::Vector2d ab = w.b - w.a;
+        const double t = (p - w.a).dot(ab);
+        // The line distance where p projects onto the segment: written as
+        // the box's test always was, so the box's results do not change.
+        const double d = t >= 0.0 && t <= ab.squaredNorm()
+                             ? w.normal.x() * (p.x() - w.a.x()) + w.normal.y() * (p.y() - w.a.y())
+                             : (t < 0.0 ? p - w.a : p - w.b).norm();
+        best = std::min(best, d);
     }
     return best;
 }

@@ -52,16 +52,14 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // Discs around the centres that hold each body at any heading, m.
     auto reach = [&model](std::size_t i) { return boundingRadius(model.sides[i]); };
     const Eigen::Vector2d ball(state.ball.x, state.ball.y);
-    // To touch a wall a body's centre must come within its reach of the
-    // wall's nearest point (posts included: they are the walls' ends); a
-    // centre off the floor is not free.
+    // To touch a wall a body's centre must come within its reach of a wall
+    // segment (posts included: they are the walls' ends); a centre off the
+    // floor is not free (wallClearance is -infinity there).
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
-        if (!onFloor(model.field, c) || !(nearestWall(model.field, c).distance - reach(i) > out.robotTravel[i]))
-            out.robots[i] = 0;
+        if (!(wallClearance(model.field, c) - reach(i) > out.robotTravel[i])) out.robots[i] = 0;
     }
-    if (!onFloor(model.field, ball) || !(nearestWall(model.field, ball).distance - model.ball.radius > out.ballTravel))
-        out.ball = false;
+    if (!(wallClearance(model.field, ball) - model.ball.radius > out.ballTravel)) out.ball = false;
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
         if (!((c - ball).norm() - reach(i) - model.ball.radius > out.robotTravel[i] + out.ballTravel))

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 namespace vssim {
@@ -35,17 +36,17 @@ struct Wall {
 // the right (x > 0) is the one a team attacking +x shoots at.
 struct FieldDimensions {
     FieldType type = FieldType::Box;
-    double length = 1.50;           // playing area along x, goal line to goal line
-    double width = 1.30;            // playing area along y, wall to wall
-    double goal_width = 0.0;        // goal mouth, centred on each short wall (0: no goals)
-    double goal_depth = 0.0;        // behind the goal line, to the back wall
-    double corner_leg = 0.0;        // legs of the isosceles right triangles in the corners (0: square corners)
-    double centre_radius = 0.20;    // centre circle
-    double goal_area_depth = 0.0;   // goal area in front of each goal, along x (0: none)
-    double goal_area_width = 0.0;   // goal area along y, centred
-    double penalty_mark = 0.0;      // penalty mark's distance from the goal line, along x
-    double free_ball_x = 0.0;       // free-ball marks' distance from the goal line, along x
-    double free_ball_y = 0.0;       // free-ball marks' distance from the long axis, along y
+    double length = 1.50;          // playing area along x, goal line to goal line
+    double width = 1.30;           // playing area along y, wall to wall
+    double goal_width = 0.0;       // goal mouth, centred on each short wall (0: no goals)
+    double goal_depth = 0.0;       // behind the goal line, to the back wall
+    double corner_leg = 0.0;       // legs of the isosceles right triangles in the corners (0: square corners)
+    double centre_radius = 0.20;   // centre circle
+    double goal_area_depth = 0.0;  // goal area in front of each goal, along x (0: none)
+    double goal_area_width = 0.0;  // goal area along y, centred
+    double penalty_mark = 0.0;     // penalty mark's distance from the goal line, along x
+    double free_ball_x = 0.0;      // free-ball marks' distance from the goal line, along x
+    double free_ball_y = 0.0;      // free-ball marks' distance from the long axis, along y
 };
 
 // The official dimensions of a field type (the seed's 1.50 x 1.30 box for Box).
@@ -70,6 +71,14 @@ struct Field {
     std::vector<Eigen::Vector2d> posts;
     // The chain's bounding box: the floor including the goals, m.
     Eigen::Vector2d lower = Eigen::Vector2d::Zero(), upper = Eigen::Vector2d::Zero();
+    // For each wall, whether its first end (a) is a post: the walls on the
+    // two sides of a post meet at a corner pointing into the floor.
+    std::vector<char> startsAtPost;
+    // The floor no wall reaches: |x| < clearHalf.x(), |y| < clearHalf.y() and
+    // |x| + |y| < clearDiagonal (the playing rectangle minus the corner
+    // triangles; every wall lies on or outside its edge), m.
+    Eigen::Vector2d clearHalf = Eigen::Vector2d::Zero();
+    double clearDiagonal = 0.0;
 };
 
 // A field from its dimensions (which must pass checkFieldDimensions).
@@ -89,6 +98,30 @@ struct NearestWall {
     double distance = 0.0;
 };
 NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p);
+
+// Whether a disc of radius r around p lies on the floor clear of every wall
+// by a margin (a cheap, conservative test: false near a wall even when the
+// disc does not touch it). Contact detection skips the bodies it clears.
+bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r);
+
+// The walls that a point off the floor is past (model.md §5, "a vertex
+// beyond a wall", on a chain of walls): the nearest wall and, across a
+// corner of the chain that is not a post, its neighbours, each only if p is
+// beyond its line. At a post, whose two walls' lines both extend over floor,
+// p is past one wall only: the one `from` (the body's centre) is in front of,
+// the other being the way the body did not come; the nearest when `from`
+// does not tell. Empty for a point on the floor. Up to three walls, in
+// increasing index order, -1 for none.
+std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& from);
+
+// Signed distance from p to a wall's line, positive on the floor side, m.
+inline double wallSignedDistance(const Wall& w, const Eigen::Vector2d& p) { return w.normal.dot(p - w.a); }
+
+// The distance from p to the nearest wall, for a conservative test of how far
+// a body can go before touching one: the distance to each segment, measured
+// along the wall's normal where p projects onto the segment (negative behind
+// it), m. -infinity for a point off the floor.
+double wallClearance(const Field& field, const Eigen::Vector2d& p);
 
 // Whether a square robot of side `side` (m) centred at (x, y) with heading
 // theta (rad), or a disc of radius r, lies on the floor clear of every wall
