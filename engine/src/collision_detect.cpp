@@ -223,12 +223,63 @@ void appendBallWallContacts(const Field& field, const BallState& ball, double ra
     }
 }
 
+// A robot against the solid corner behind a post: the quadrant beyond both
+// walls that meet there, a convex set like the square, so the separating-axis
+// test (model.md §5, "a robust implementation covers them") gives the least
+// push that clears it: along either wall's normal (the whole square back in
+// front of that wall's line) or along a face normal of the square that points
+// out of the corner (the post back onto that face). A vertex meeting the post
+// is then one contact, where the vertex test against one wall and a push of
+// the post along a face disagreed and could leave the robot in the corner.
+std::optional<Contact> robotPostContact(const Field& field, const RobotState& robot, int robotIndex,
+                                        const std::array<Eigen::Vector2d, 4>& vertices, int post) {
+    const int n = static_cast<int>(field.walls.size());
+    const Wall &in = field.walls[(post + n - 1) % n], &out = field.walls[post];
+    const Eigen::Vector2d& p = out.a;
+    // The corner is p + cone{back along `in`, on along `out`}.
+    const Eigen::Vector2d e1 = (in.a - in.b).normalized(), e2 = (out.b - out.a).normalized();
+    double depth = INFINITY;
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero(), point = p;
+    for (const Wall* w : {&in, &out}) {
+        // As the vertex test: the depth-weighted average of the vertices
+        // beyond the line is the point, so a face flat on it touches at its middle.
+        double deepest = 0.0, weight = 0.0;
+        Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
+        for (const Eigen::Vector2d& v : vertices) {
+            const double d = -wallSignedDistance(*w, v);
+            if (!(d > 0.0)) continue;
+            deepest = std::max(deepest, d);
+            weighted += d * v;
+            weight += d;
+        }
+        if (!(deepest > 0.0)) return std::nullopt;  // the square is in front of this wall: separated
+        if (deepest < depth) depth = deepest, normal = w->normal, point = weighted / weight;
+    }
+    const double c = std::cos(robot.theta), s = std::sin(robot.theta);
+    const Eigen::Vector2d axes[4] = {{c, s}, {-c, -s}, {-s, c}, {s, -c}};
+    for (const Eigen::Vector2d& u : axes) {
+        if (u.dot(e1) > 0.0 || u.dot(e2) > 0.0) continue;  // the corner reaches on without end along u
+        double lowest = INFINITY;
+        for (const Eigen::Vector2d& v : vertices) lowest = std::min(lowest, v.dot(u));
+        const double d = p.dot(u) - lowest;
+        if (!(d > 0.0)) return std::nullopt;              // the post is beyond that face: separated
+        if (d < depth) depth = d, normal = u, point = p;  // the post presses on the face
+    }
+    Contact k;
+    k.a = {BodyKind::Robot, robotIndex};
+    k.b = {BodyKind::Wall, post};
+    k.normal = normal;
+    k.depth = depth;
+    k.point = point;
+    return k;
+}
+
 // A robot against the chain of walls. The paper's vertex test (model.md §5):
 // each vertex is past the walls wallsPast finds (in the box, every wall whose
-// line it is beyond, as before; near a post, the one wall the robot came
-// through). Then each post (a corner of the chain pointing into the floor)
-// inside the square, which no vertex test sees (a face pressed against a
-// post), pushes the robot back out through the face nearest to it.
+// line it is beyond, as before). Near a post, the solid corner behind it is
+// tested as a whole instead (robotPostContact): when a vertex is in it or the
+// post is inside the square, which no vertex test sees (a face pressed
+// against a post).
 void appendRobotWallContacts(const Field& field, const RobotState& robot, double side, int robotIndex,
                              std::vector<Contact>& contacts) {
     const Eigen::Vector2d c = centre(robot);
@@ -237,10 +288,22 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
     const auto vertices = robotVertices(robot, side);
     std::array<std::array<int, 3>, 4> past;
     std::array<int, 12> touched;
+    std::array<int, 4> corners{-1, -1, -1, -1};  // the post whose corner each vertex is in
     int count = 0;
     for (int j = 0; j < 4; ++j) {
         past[j] = {-1, -1, -1};
         if (clearOfWalls(field, vertices[j], 0.0)) continue;
+        if (!field.posts.empty()) {
+            // A vertex in a post's corner while the centre is in front of
+            // both walls there: neither wall is the one it came through.
+            const int post = postCornerAt(field, vertices[j]);
+            const int walls = static_cast<int>(field.walls.size());
+            if (post >= 0 && wallSignedDistance(field.walls[post], c) > 0.0 &&
+                wallSignedDistance(field.walls[(post + walls - 1) % walls], c) > 0.0) {
+                corners[j] = post;
+                continue;
+            }
+        }
         past[j] = wallsPast(field, vertices[j], c);
         for (int w : past[j])
             if (w >= 0 && std::find(touched.begin(), touched.begin() + count, w) == touched.begin() + count)
@@ -253,24 +316,15 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
                                        [&past, w](int j) { return contains(past[j], w); }))
             contacts.push_back(*k);
     }
+    if (field.posts.empty()) return;
     const double half = 0.5 * side;
     const int walls = static_cast<int>(field.walls.size());
     for (int w = 0; w < walls; ++w) {
         if (!field.startsAtPost[w]) continue;
-        const Eigen::Vector2d& post = field.walls[w].a;
-        const Eigen::Vector2d local = toRobotFrame(robot, post);
-        const double alongX = half - std::abs(local.x()), alongY = half - std::abs(local.y());
-        if (!(alongX > 0.0 && alongY > 0.0)) continue;  // the post is not inside the square
-        const bool xFace = alongX <= alongY;
-        const Eigen::Vector2d face = xFace ? Eigen::Vector2d(local.x() >= 0.0 ? 1.0 : -1.0, 0.0)
-                                           : Eigen::Vector2d(0.0, local.y() >= 0.0 ? 1.0 : -1.0);
-        Contact k;
-        k.a = {BodyKind::Robot, robotIndex};
-        k.b = {BodyKind::Wall, w};
-        k.normal = (c - fromRobotFrame(robot, face)).normalized();  // away from the face the post presses into
-        k.depth = xFace ? alongX : alongY;
-        k.point = post;
-        contacts.push_back(k);
+        const Eigen::Vector2d local = toRobotFrame(robot, field.walls[w].a);
+        const bool postInside = std::abs(local.x()) < half && std::abs(local.y()) < half;
+        if (!postInside && std::find(corners.begin(), corners.end(), w) == corners.end()) continue;
+        if (auto k = robotPostContact(field, robot, robotIndex, vertices, w)) contacts.push_back(*k);
     }
 }
 

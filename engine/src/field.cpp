@@ -150,6 +150,22 @@ bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r) {
            ax + ay + 1.5 * reach < field.clearDiagonal;
 }
 
+int postCornerAt(const Field& field, const Eigen::Vector2d& p) {
+    const int n = static_cast<int>(field.walls.size());
+    for (int out = 0; out < n; ++out) {
+        if (!field.startsAtPost[out]) continue;
+        const int in = (out + n - 1) % n;
+        const Wall &a = field.walls[in], &b = field.walls[out];
+        if (!(wallSignedDistance(a, p) < 0.0 && wallSignedDistance(b, p) < 0.0)) continue;
+        // Only near the post: the lines run on over the floor and the solid
+        // beyond it, so a point beyond both may be at the far end of a goal's
+        // side wall, in the back corner.
+        const double d = (p - b.a).squaredNorm();
+        if (d < (p - a.a).squaredNorm() && d < (p - b.b).squaredNorm()) return out;
+    }
+    return -1;
+}
+
 std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& from) {
     std::array<int, 3> past{-1, -1, -1};
     const int n = static_cast<int>(field.walls.size());
@@ -157,37 +173,28 @@ std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const
     if (nearest.wall < 0) return past;
     const int w = nearest.wall, prev = (w + n - 1) % n, next = (w + 1) % n;
     auto beyond = [&](int k) { return wallSignedDistance(field.walls[k], p) < 0.0; };
-    auto inFront = [&](int k) { return wallSignedDistance(field.walls[k], from) > 0.0; };
-    const bool postAtA = field.startsAtPost[w] != 0, postAtB = field.startsAtPost[next] != 0;
-    // Beyond both walls of a post: inside the post's solid corner, which a
-    // body enters through one wall or the other. The nearest wall would push
-    // a robot sliding along the goal line into the goal, or one inside the
-    // goal out through the post; the body's centre tells which way it came.
-    auto atPost = [&](int in, int out) {
-        const bool fromIn = inFront(in), fromOut = inFront(out);
-        const int k = fromIn && !fromOut ? in : fromOut && !fromIn ? out : w;
-        past[0] = k;
+    // Inside a post's solid corner, which a body enters through one wall or
+    // the other: the nearest wall would push a robot sliding along the goal
+    // line into the goal, or one inside the goal out through the post; the
+    // body's centre tells which way it came.
+    const int post = postCornerAt(field, p);
+    if (post >= 0) {
+        const int in = (post + n - 1) % n;
+        const bool fromIn = wallSignedDistance(field.walls[in], from) > 0.0;
+        const bool fromOut = wallSignedDistance(field.walls[post], from) > 0.0;
+        past[0] = fromIn && !fromOut ? in : fromOut && !fromIn ? post : w;
         return past;
-    };
-    // Only near the post: the lines run on over the floor and the solid
-    // beyond it, so a point beyond both may be at the far end of a goal's
-    // side wall, in the back corner.
-    auto nearPost = [&](int in, int out) {
-        const Eigen::Vector2d& post = field.walls[out].a;
-        const double d = (p - post).squaredNorm();
-        return beyond(in) && beyond(out) && d < (p - field.walls[in].a).squaredNorm() &&
-               d < (p - field.walls[out].b).squaredNorm();
-    };
-    if (postAtA && nearPost(prev, w)) return atPost(prev, w);
-    if (postAtB && nearPost(w, next)) return atPost(w, next);
+    }
     // Elsewhere (a corner of the chain pointing away from the floor: the
     // box's corners, the corner triangles' ends, the back of the goal), p is
-    // past each wall whose line it is beyond, as in the paper's box.
+    // past each wall whose line it is beyond, as in the paper's box; not
+    // across a post, whose neighbour's line runs over the floor.
+    const bool postAtA = field.startsAtPost[w] != 0, postAtB = field.startsAtPost[next] != 0;
     int order[3] = {prev, w, next};
     std::sort(order, order + 3);  // in increasing index order (prev is the highest when w is 0)
     int count = 0;
     for (int k : order) {
-        if ((k == prev && postAtA) || (k == next && postAtB)) continue;  // not across a post
+        if ((k == prev && postAtA) || (k == next && postAtB)) continue;
         if (beyond(k)) past[count++] = k;
     }
     return past;

@@ -114,6 +114,11 @@ bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r);
 // increasing index order, -1 for none.
 std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& from);
 
+// The post whose solid corner p is in (beyond both walls that meet there,
+// and nearer the post than their other ends), as the index of the wall that
+// starts at it; -1 for none.
+int postCornerAt(const Field& field, const Eigen::Vector2d& p);
+
 // Signed distance from p to a wall's line, positive on the floor side, m.
 inline double wallSignedDistance(const Wall& w, const Eigen::Vector2d& p) { return w.normal.dot(p - w.a); }
 
