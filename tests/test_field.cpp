@@ -474,6 +474,30 @@ void TestField::bodiesAgainstThePosts() {
         }
         QVERIFY(upward);
     }
+    // A vertex meeting a post from in front of the mouth, 1 mm into the solid
+    // corner behind it, at several headings around the diagonal (found by
+    // vssim stress: the vertex test against one wall and a push of the post
+    // along a face disagreed and left the robot in the corner): one step
+    // clears it, under both models.
+    for (CollisionModel model : {CollisionModel::Paper, CollisionModel::Impulse})
+        for (double tilt : {0.0, 0.2, -0.2, 0.6, -0.6}) {
+            const Eigen::Vector2d post(hx, -g), into = Eigen::Vector2d(1, -1).normalized();
+            const double towards = std::atan2(into.y(), into.x()) + tilt;  // the vertex's direction from the centre
+            const Eigen::Vector2d vertex = post + 0.001 * into;
+            const Eigen::Vector2d centre =
+                vertex - (kSide / std::sqrt(2.0)) * Eigen::Vector2d(std::cos(towards), std::sin(towards));
+            Scene scene = sceneOn(FieldType::Vsss3v3, model);
+            // Vertex 0 lies at theta + 45° (model.md §5).
+            scene.robots.push_back(test::robotAt("r", centre.x(), centre.y(), towards - M_PI / 4));
+            Simulation sim(scene);
+            QVERIFY(robotOffFloor(f, sim.state().robots[0], kSide) > 0.0005);
+            sim.step();
+            QVERIFY2(robotOffFloor(f, sim.state().robots[0], kSide) < 1e-12,
+                     qPrintable(QString("%1, tilt %2: %3 m into the post's corner after a step")
+                                    .arg(modelName(model))
+                                    .arg(tilt)
+                                    .arg(robotOffFloor(f, sim.state().robots[0], kSide))));
+        }
     // The ball on a post touches it once, along the line from the post.
     {
         const Eigen::Vector2d post(hx, -g), dir = Eigen::Vector2d(-1, 1).normalized();
