@@ -91,6 +91,7 @@ private slots:
     void robotBouncesOffEveryWall();
     void bodiesAgainstThePosts();
     void hiddenCornersAtTheBackOfTheGoal();
+    void cornerTriangleJunctions();
     void ballRollsIntoTheGoalAndStopsAtTheBackWall();
     void robotDrivesIntoTheGoal();
     void impulseModelCreatesNoEnergyAgainstTheWalls();
@@ -581,6 +582,59 @@ void TestField::hiddenCornersAtTheBackOfTheGoal() {
                 const RobotState& r = robotSim.state().robots[0];
                 QVERIFY(std::abs(r.x) > hx);  // still in the goal, jammed in its corner
             }
+}
+
+void TestField::cornerTriangleJunctions() {
+    // Where a corner triangle meets a wall the chain turns away from the
+    // floor by 45°: a ball touching both touches each once, along its
+    // normal; one pushed past both is pushed back by both (as in the box's
+    // corners); balls and robots driven into each junction stay on the floor.
+    const Field f = official(FieldType::Vsss3v3);
+    const double hx = 0.75, hy = 0.65, c = 0.07;
+    const Eigen::Vector2d junction(hx - c, -hy);  // bottom wall (0) meets the triangle (1)
+    const Eigen::Vector2d n0 = f.walls[0].normal, n1 = f.walls[1].normal;
+    QCOMPARE(f.walls[0].b, junction);
+    const Eigen::Vector2d bisector = (n0 + n1).normalized();
+    const double along = (kRadius - 0.001) / bisector.dot(n0);  // 1 mm into both
+    const std::vector<RobotState> none;
+    const std::vector<double> sides;
+    for (double extra : {0.0, 0.03}) {  // 0.03: the centre beyond both lines, off the floor
+        BallState b;
+        const Eigen::Vector2d centre = junction + (along - extra) * bisector;
+        b.x = centre.x(), b.y = centre.y();
+        std::vector<Contact> contacts;
+        appendWallContacts(f, BodiesView{&none, &sides, &b, kRadius}, contacts);
+        QCOMPARE(contacts.size(), std::size_t(2));
+        QCOMPARE(contacts[0].b.index, 0);
+        QCOMPARE(contacts[1].b.index, 1);
+        QVERIFY(contacts[0].normal.isApprox(n0, 1e-12) && contacts[1].normal.isApprox(n1, 1e-12));
+    }
+    int junctions = 0;
+    for (CollisionModel model : {CollisionModel::Paper, CollisionModel::Impulse})
+        for (int w = 0; w < 16; ++w) {
+            // A foot of a triangle: c from a corner of the rectangle, along a side.
+            const Eigen::Vector2d a = f.walls[w].a;
+            const bool triangleEnd =
+                std::abs(std::abs(std::abs(a.x()) - hx) + std::abs(std::abs(a.y()) - hy) - c) < 1e-12;
+            if (!triangleEnd) continue;
+            ++junctions;
+            const Eigen::Vector2d p = f.walls[w].a;
+            const Eigen::Vector2d in = (f.walls[w].normal + f.walls[(w + 15) % 16].normal).normalized();
+            Scene scene = sceneOn(FieldType::Vsss3v3, model);
+            const Eigen::Vector2d ball = p + 0.05 * in;
+            scene.ball.x = ball.x(), scene.ball.y = ball.y(), scene.ball.vx = -3 * in.x(), scene.ball.vy = -3 * in.y();
+            const Eigen::Vector2d robot = p + 0.15 * in;
+            scene.robots.push_back(test::robotAt("r", robot.x(), robot.y(), std::atan2(-in.y(), -in.x()) + 0.3, 0.5));
+            scene.commands.push_back({0.0, 0, {6.0, 5.0}});
+            Simulation sim(scene);
+            for (int k = 0; k < 1500; ++k) {
+                sim.step();
+                QVERIFY2(ballOffFloor(f, sim.state().ball, kRadius) < 1e-12 &&
+                             robotOffFloor(f, sim.state().robots[0], kSide) < 1e-9,
+                         qPrintable(QString("%1, junction %2, step %3").arg(modelName(model)).arg(str(p)).arg(k)));
+            }
+        }
+    QCOMPARE(junctions, 2 * 8);
 }
 
 void TestField::ballRollsIntoTheGoalAndStopsAtTheBackWall() {
