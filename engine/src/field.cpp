@@ -128,7 +128,16 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p) {
     NearestWall best;
     best.distance = INFINITY;
     for (std::size_t w = 0; w < field.walls.size(); ++w) {
-        const SegmentClosestPoint q = closestPointOnSegment(field.walls[w].a, field.walls[w].b, p);
+        const Wall& wall = field.walls[w];
+        // Skip a wall whose bounding box is already no nearer than the best:
+        // its distance cannot be smaller (the margin covers rounding), so
+        // the answer is the one the full test gives.
+        const double dx =
+            std::max({0.0, std::min(wall.a.x(), wall.b.x()) - p.x(), p.x() - std::max(wall.a.x(), wall.b.x())});
+        const double dy =
+            std::max({0.0, std::min(wall.a.y(), wall.b.y()) - p.y(), p.y() - std::max(wall.a.y(), wall.b.y())});
+        if (std::sqrt(dx * dx + dy * dy) * (1.0 - 1e-12) >= best.distance) continue;
+        const SegmentClosestPoint q = closestPointOnSegment(wall.a, wall.b, p);
         if (q.distance < best.distance) {
             best.wall = static_cast<int>(w);
             best.point = q.point;
@@ -136,18 +145,6 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p) {
         }
     }
     return best;
-}
-
-bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r) {
-    // Every wall lies on the lines |x| = hx, |y| = hy or |x| + |y| = hx + hy - c,
-    // or beyond them, and the corner triangles' lines are sqrt2 r away when
-    // |x| + |y| is sqrt2 r short of them (1.5 r: rounding cannot matter). The
-    // margin keeps the test conservative against the rounding of the exact
-    // tests it lets the callers skip.
-    constexpr double kMargin = 1e-9;  // m
-    const double ax = std::abs(p.x()), ay = std::abs(p.y()), reach = r + kMargin;
-    return ax + reach < field.clearHalf.x() && ay + reach < field.clearHalf.y() &&
-           ax + ay + 1.5 * reach < field.clearDiagonal;
 }
 
 int postCornerAt(const Field& field, const Eigen::Vector2d& p) {

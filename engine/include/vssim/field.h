@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace vssim {
@@ -102,7 +103,17 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p);
 // Whether a disc of radius r around p lies on the floor clear of every wall
 // by a margin (a cheap, conservative test: false near a wall even when the
 // disc does not touch it). Contact detection skips the bodies it clears.
-bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r);
+inline bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r) {
+    // Every wall lies on the lines |x| = hx, |y| = hy or |x| + |y| = hx + hy - c,
+    // or beyond them, and the corner triangles' lines are sqrt2 r away when
+    // |x| + |y| is sqrt2 r short of them (1.5 r: rounding cannot matter). The
+    // margin keeps the test conservative against the rounding of the exact
+    // tests it lets the callers skip.
+    constexpr double kMargin = 1e-9;  // m
+    const double ax = std::abs(p.x()), ay = std::abs(p.y()), reach = r + kMargin;
+    return ax + reach < field.clearHalf.x() && ay + reach < field.clearHalf.y() &&
+           ax + ay + 1.5 * reach < field.clearDiagonal;
+}
 
 // The walls that a point off the floor is past (model.md §5, "a vertex
 // beyond a wall", on a chain of walls): the nearest wall and, across a
