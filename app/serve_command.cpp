@@ -52,8 +52,16 @@ QString serveHelpText() {
                "                       clients drive the robots)\n"
                "  --read-only-observers\n"
                "                       observers may only watch and ask for stats: their pause, resume,\n"
-               "                       step, reset, place_robot, place_ball and speed get ERROR read_only\n"
+               "                       step, reset, place_robot, place_ball, speed, halt, game_on and call\n"
+               "                       get ERROR read_only\n"
                "                       (for matches: only the teams' clients control the game)\n"
+               "  --yellow CONTROL, --blue CONTROL\n"
+               "                       who drives the team, overriding the scene's game section: builtin\n"
+               "                       (vssim's built-in team), tcp (a client: HELLO as that team) or idle\n"
+               "                       (nobody: 0 V). A team that is not tcp refuses clients (ERROR\n"
+               "                       role_not_remote)\n"
+               "  --referee on|off     the automatic referee (score, clock, fouls, placements; needs a field\n"
+               "                       with goals), overriding the scene's game.referee\n"
                "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
                "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
                "  -h, --help           this help\n"
@@ -87,8 +95,11 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption quitAfter("quit-after", "s", "S");
     const QCommandLineOption sceneCommands("scene-commands", "scene commands");
     const QCommandLineOption readOnlyObservers("read-only-observers", "read-only observers");
-    parser.addOptions(
-        {help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands, readOnlyObservers});
+    const QCommandLineOption yellow("yellow", "control", "CONTROL");
+    const QCommandLineOption blue("blue", "control", "CONTROL");
+    const QCommandLineOption referee("referee", "on|off", "ON");
+    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands,
+                       readOnlyObservers, yellow, blue, referee});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -163,6 +174,26 @@ int serveCommand(const QStringList& arguments) {
         err() << "vssim serve: " << error << "\n";
         return 2;
     }
+    // The game: who drives each team, and the referee.
+    for (const auto& [option, control] :
+         {std::pair{&yellow, &scene->game.yellow}, std::pair{&blue, &scene->game.blue}}) {
+        if (!parser.isSet(*option)) continue;
+        const QString text = parser.value(*option);
+        const std::optional<TeamControl> value =
+            text == "tcp" ? std::optional(TeamControl::Remote) : teamControlFromName(text);
+        if (!value)
+            return usage(
+                QStringLiteral("--%1: expected builtin, tcp or idle, got \"%2\"").arg(option->names().first(), text));
+        *control = *value;
+    }
+    if (parser.isSet(referee)) {
+        const QString text = parser.value(referee);
+        if (text != "on" && text != "off")
+            return usage(QStringLiteral("--referee: expected on or off, got \"%1\"").arg(text));
+        scene->game.rules.referee = text == "on";
+        if (scene->game.rules.referee && !fieldHasGoals(scene->field))
+            return usage(QStringLiteral("--referee on: %1: %2").arg(scenePath, refereeFieldProblem()));
+    }
     const std::size_t scheduled = scene->commands.size();
     if (!parser.isSet(sceneCommands)) scene->commands.clear();
     if (scene->robots.size() > 255) {
@@ -192,7 +223,8 @@ int serveCommand(const QStringList& arguments) {
     QTextStream out(stdout);
     out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
     out.flush();
-    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7")
+    const GameSettings& game = scene->game;
+    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7; referee %8, yellow %9, blue %10")
             .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName())
                                             : scenePath)
             .arg(scene->robots.size())
@@ -202,7 +234,10 @@ int serveCommand(const QStringList& arguments) {
             .arg(parser.isSet(sceneCommands)
                      ? QStringLiteral("%1 scene commands applied").arg(scheduled)
                      : QStringLiteral("%1 scene commands ignored (--scene-commands applies them)").arg(scheduled))
-            .arg(server.readOnlyObservers ? QStringLiteral("; observers are read-only") : QString()));
+            .arg(server.readOnlyObservers ? QStringLiteral("; observers are read-only") : QString())
+            .arg(game.rules.referee ? "on" : "off")
+            .arg(game.yellow == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.yellow))
+            .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue)));
 
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);

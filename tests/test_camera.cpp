@@ -9,6 +9,8 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "camera/field_background.h"
+
 #include "camera/camera_geometry.h"
 #include "camera/camera_renderer.h"
 #include "camera/image_codec.h"
@@ -161,6 +163,10 @@ private slots:
     void decodeRejectsBadData();
     void encodingNames();
     void kickoffPatchFraction();
+    void geometryIncludesTheGoals();
+    void officialFieldBackground();
+    void markingsFollowTheDimensions();
+    void boxBackgroundUnchanged();
 };
 
 void TestCamera::geometryClosedForms() {
@@ -562,6 +568,137 @@ void TestCamera::kickoffPatchFraction() {
           encodeImage(frame, ImageEncoding::Png).size(), encodeImage(frame, ImageEncoding::Jpeg, 90).size());
     QVERIFY(unionFraction < 0.04);
     QVERIFY(summed / imagePixels < 0.04);
+}
+
+void TestCamera::geometryIncludesTheGoals() {
+    // 3 vs 3: 1.70 m from back wall to back wall, 600 / 1.7 = 352.9 px/m; the
+    // width still binds, so the scale and mapping are the box's.
+    const Field three = makeField(officialDimensions(FieldType::Vsss3v3));
+    const CameraGeometry a = cameraGeometryFor(three);
+    QVERIFY(std::abs(a.scale - 4400.0 / 13.0) < 1e-9);
+    QCOMPARE(a.centreU, 320.0);
+    QCOMPARE(a.centreV, 240.0);
+    // 5 vs 5: 2.20 + 2 x 0.15 = 2.50 m binds: 600 / 2.5 = 240 px/m, the back walls 20 px from the image's sides.
+    const Field five = makeField(officialDimensions(FieldType::Vsss5v5));
+    const CameraGeometry b = cameraGeometryFor(five);
+    QVERIFY(std::abs(b.scale - 240.0) < 1e-9);
+    QVERIFY(std::abs(toPixel(b, -1.25, 0).x() - 20.0) < 1e-9);
+    QVERIFY(std::abs(toPixel(b, 1.25, 0).x() - 620.0) < 1e-9);
+    QVERIFY(std::abs(toPixel(b, 0, 0.9).y() - (240.0 - 216.0)) < 1e-9);
+    // Every wall, with its 3 px line, is inside the image.
+    for (const Field* field : {&three, &five}) {
+        const CameraGeometry camera = cameraGeometryFor(*field);
+        for (const Wall& w : field->walls)
+            for (const Eigen::Vector2d& p : {w.a, w.b}) {
+                const Eigen::Vector2d px = toPixel(camera, p.x(), p.y());
+                QVERIFY(px.x() >= 19.99 && px.x() <= 620.01 && px.y() >= 19.99 && px.y() <= 460.01);
+            }
+    }
+}
+
+void TestCamera::officialFieldBackground() {
+    Scene scene = sceneOf({});
+    scene.field = makeField(officialDimensions(FieldType::Vsss3v3));
+    const CameraRenderer renderer(scene);
+    const cv::Mat& bg = renderer.background();
+    const CameraGeometry& camera = renderer.geometry();
+    auto at = [&](double x, double y) { return colourAt(bg, pixelAt(camera, x, y)); };
+    // In the goal (mouth y in [-0.2, 0.2], back wall at |x| = 0.85): floor.
+    for (auto [x, y] : {std::pair{0.80, 0.1}, {-0.80, -0.1}, {0.78, -0.15}, {-0.82, 0.15}}) QCOMPARE(at(x, y), kFloor);
+    // Just behind the back walls, and beside the goals past the goal line: outside.
+    for (auto [x, y] : {std::pair{0.87, 0.0}, {-0.87, 0.05}, {0.80, 0.3}, {-0.80, -0.3}, {0.80, 0.23}})
+        QCOMPARE(at(x, y), kOutside);
+    // The back wall and the goal's side walls are walls; so are the posts.
+    QCOMPARE(at(0.85, 0.0), kWall);
+    QCOMPARE(at(-0.80, 0.2), kWall);
+    QCOMPARE(at(0.75, -0.2), kWall);
+    // The corner triangles (legs 0.07 m: hypotenuse x + y = 1.33 at the top
+    // right): wall along the hypotenuse, outside beyond it.
+    QCOMPARE(at(0.715, 0.615), kWall);
+    QCOMPARE(at(-0.715, -0.615), kWall);
+    for (auto [x, y] : {std::pair{0.74, 0.64}, {-0.74, 0.64}, {0.74, -0.64}, {-0.74, -0.64}})
+        QCOMPARE(at(x, y), kOutside);
+    QCOMPARE(at(0.70, 0.60), kFloor);  // just in front of a triangle
+    // The markings: white-ish (a 1 px anti-aliased line brightens a pixel or two) at every mark's cross.
+    auto bright = [&](double x, double y) {
+        const cv::Point c = pixelAt(camera, x, y);
+        double best = 0;
+        for (int dv = -1; dv <= 1; ++dv)
+            for (int du = -1; du <= 1; ++du) best = std::max(best, double(colourAt(bg, c + cv::Point(du, dv))[0]));
+        return best;
+    };
+    for (auto [x, y] : {std::pair{0.375, 0.25},
+                        {0.375, -0.25},
+                        {-0.375, 0.25},
+                        {-0.375, -0.25},  // free-ball marks
+                        {0.375, 0.0},
+                        {-0.375, 0.0}})  // penalty marks
+        QVERIFY2(bright(x, y) > 150, qPrintable(QString("mark at (%1, %2)").arg(x).arg(y)));
+    QVERIFY(bright(0.375 + 0.01, 0.25) > 100);  // the cross's arm ends 1 cm from the mark
+    QCOMPARE(at(0.375 + 0.02, 0.25), kFloor);   // and no further
+    // The goal areas, 0.15 m deep and 0.70 m wide: their front lines and sides.
+    QVERIFY(bright(0.60, 0.1) > 150);
+    QVERIFY(bright(-0.60, -0.3) > 150);
+    QVERIFY(bright(0.70, 0.35) > 150);
+    QVERIFY(bright(-0.65, -0.35) > 150);
+    QCOMPARE(at(0.55, 0.1), kFloor);  // in front of the goal area
+    QCOMPARE(at(0.68, 0.1), kFloor);  // inside it
+    // The centre circle, r = 0.20 m, at 45 degrees.
+    QVERIFY(bright(0.2 * M_SQRT1_2, 0.2 * M_SQRT1_2) > 150);
+}
+
+void TestCamera::markingsFollowTheDimensions() {
+    // 5 vs 5: the centre circle is 0.25 m, not 0.20 m; the free-ball marks 0.40 m off the axis.
+    Scene scene = sceneOf({});
+    scene.field = makeField(officialDimensions(FieldType::Vsss5v5));
+    const CameraRenderer renderer(scene);
+    const cv::Mat& bg = renderer.background();
+    const CameraGeometry& camera = renderer.geometry();
+    auto bright = [&](double x, double y) {
+        const cv::Point c = pixelAt(camera, x, y);
+        double best = 0;
+        for (int dv = -1; dv <= 1; ++dv)
+            for (int du = -1; du <= 1; ++du) best = std::max(best, double(colourAt(bg, c + cv::Point(du, dv))[0]));
+        return best;
+    };
+    QVERIFY(bright(0.25 * M_SQRT1_2, 0.25 * M_SQRT1_2) > 150);
+    QCOMPARE(bright(0.20 * M_SQRT1_2, 0.20 * M_SQRT1_2), 20.0);
+    QVERIFY(bright(1.1 - 0.375, 0.40) > 150);
+    QVERIFY(bright(-(1.1 - 0.375), -0.40) > 150);
+    QCOMPARE(colourAt(bg, pixelAt(camera, 1.2, 0.0)), kFloor);     // in the 0.15 m deep goal
+    QCOMPARE(colourAt(bg, pixelAt(camera, 1.2, 0.25)), kOutside);  // beside it
+    // A field without marks or goal areas draws none: the box has only the centre line and circle.
+    Scene box = sceneOf({});
+    const cv::Mat plain = CameraRenderer(box).background();
+    const CameraGeometry& bc = cameraGeometryFor(box.field);
+    QCOMPARE(colourAt(plain, pixelAt(bc, 0.375, 0.25)), kFloor);
+    QCOMPARE(colourAt(plain, pixelAt(bc, 0.60, 0.1)), kFloor);
+}
+
+void TestCamera::boxBackgroundUnchanged() {
+    // The box's image as it was drawn before the official fields existed
+    // (floor polygon, centre line, a 0.20 m circle, four walls), drawn here
+    // with the same calls: the box's background must be the same, byte for byte.
+    for (auto [length, width] : {std::pair{1.50, 1.30}, {3.0, 0.5}, {2.2, 1.8}}) {
+        const Field field = makeRectangularField(length, width);
+        const CameraGeometry camera = cameraGeometryFor(field);
+        cv::Mat old(camera.height, camera.width, CV_8UC3, cv::Scalar(70, 70, 70));
+        const double hx = length / 2, hy = width / 2;
+        std::vector<cv::Point> floor;
+        for (auto [x, y] : {std::pair{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}})
+            floor.push_back(drawingPoint(camera, x, y));
+        cv::fillPoly(old, std::vector<std::vector<cv::Point>>{floor}, cv::Scalar(20, 20, 20), cv::LINE_AA, 8);
+        cv::line(old, drawingPoint(camera, 0.0, -hy), drawingPoint(camera, 0.0, hy), cv::Scalar(255, 255, 255), 1,
+                 cv::LINE_AA, 8);
+        cv::circle(old, drawingPoint(camera, 0.0, 0.0), drawingLength(camera, 0.20), cv::Scalar(255, 255, 255), 1,
+                   cv::LINE_AA, 8);
+        for (int k = 0; k < 4; ++k)
+            cv::line(old, floor[k], floor[(k + 1) % 4], cv::Scalar(200, 200, 200), 3, cv::LINE_AA, 8);
+        QCOMPARE(camera.centreU, 320.0);
+        QCOMPARE(camera.centreV, 240.0);
+        QVERIFY(std::abs(camera.scale - std::min(600 / length, 440 / width)) < 1e-12);
+        QCOMPARE(cv::countNonZero(differenceMask(renderFieldBackground(field, camera), old)), 0);
+    }
 }
 
 QTEST_GUILESS_MAIN(TestCamera)

@@ -59,7 +59,10 @@ private slots:
         QFETCH(bool, lockstep);
         QFETCH(double, ballX);
         QFETCH(double, ballY);
-        ServeProcess serve(lockstep ? QStringList{"kickoff_3v3", "--lockstep"} : QStringList{"kickoff_3v3"});
+        // The kick-off's field without a game (the built-in scene is a match of
+        // the built-in team against itself): every robot left to clients.
+        const QStringList bare{"kickoff_3v3", "--referee", "off", "--yellow", "tcp", "--blue", "tcp"};
+        ServeProcess serve(lockstep ? bare + QStringList{"--lockstep"} : bare);
         QVERIFY2(serve.port != 0, qPrintable("vssim serve printed: " + serve.firstLine));
 
         ProtocolClient observer;
@@ -71,9 +74,8 @@ private slots:
                           QJsonObject{{"command", "place_ball"}, {"x", ballX}, {"y", ballY}});
         const auto placed = observer.nextOf(protocol::MessageType::Reply);
         QVERIFY(placed && jsonPayload(placed->message)["ok"].toBool());
-        // Which robot the client drives: its team and identity id. (In the
-        // kick-off scene, yellow0 and blue0 have no scheduled commands: only
-        // the client moves them.)
+        // Which robot the client drives: its team and identity id. (vssim
+        // serve applies no scene commands by default: only the client moves it.)
         const QString team = clientArgs.contains("blue") ? "blue" : "yellow";
         const int id = clientArgs.contains("--robot") ? clientArgs[clientArgs.indexOf("--robot") + 1].toInt() : 0;
         int robot = -1;

@@ -4,8 +4,12 @@
 // agrees bit for bit with an offline Simulation given the same commands.
 #include <QtTest>
 
+#include <array>
+#include <cmath>
+
 #include "realtime/engine_loop.h"
 #include "test_support.h"
+#include "vssim/field.h"
 
 using namespace vssim;
 
@@ -36,7 +40,38 @@ struct RecordingSink : EngineSink {
     void reply(const EngineReply& r) override { replies.push_back(r); }
     std::vector<SimulationFault> faults;
     void halted(const SimulationFault& fault, std::int64_t) override { faults.push_back(fault); }
+    struct GameNews {
+        std::int64_t frame, step;
+        GamePhase phase;
+        std::size_t calls;
+        std::array<int, 2> goals;
+    };
+    std::vector<GameNews> games;
+    void gameChanged(const Match& match, std::int64_t frame, std::int64_t) override {
+        const GameState& g = match.game();
+        games.push_back({frame, match.simulation().state().step, g.phase, g.calls.size(), g.goals});
+    }
 };
+
+// The built-in kick-off scene as a game: the referee on, the built-in team
+// on both sides (resources/scenes/kickoff_3v3.json, written out here).
+Scene kickoffMatch() {
+    Scene scene;
+    scene.field = makeField(officialDimensions(FieldType::Vsss3v3));
+    const char* names[] = {"yellow0", "yellow1", "yellow2", "blue0", "blue1", "blue2"};
+    const double xs[] = {-0.68, -0.35, -0.2, 0.68, 0.35, 0.2}, ys[] = {0.0, 0.25, -0.1, 0.0, -0.25, 0.1};
+    for (int i = 0; i < 6; ++i) {
+        scene.robots.push_back(test::robotAt(names[i], xs[i], ys[i], i < 3 ? 0.0 : M_PI));
+        scene.robots.back().team = i < 3 ? Team::Yellow : Team::Blue;
+    }
+    scene.game.rules.referee = true;
+    scene.game.yellow = TeamControl::Builtin;
+    scene.game.blue = TeamControl::Builtin;
+    return scene;
+}
+
+// A robot's distance from where it was, m.
+double moved(const RobotState& a, const RobotState& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 // A scene no file may hold (the reader refuses a ball of 1e-308 kg): its
 // friction rate of 2e306 /s overflows the ball's velocity in the first step.
@@ -507,6 +542,178 @@ private slots:
         loop.handle(control(EngineRequest::Kind::Step, 0, 0.05), 0);
         QCOMPARE(sink.replies.back().error, QString("non_finite"));
         QCOMPARE(loop.simulation().state().time, 0.05);
+    }
+
+    void lockstepGameIsBitIdenticalAndTicksAtItsBoundaries() {
+        // A match of the built-in team against itself, stepped in lockstep
+        // with durations that do not fall on game ticks: each step ends on
+        // the next tick boundary, and two runs agree bit for bit with each
+        // other and with the Match run offline to the same steps.
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        const double durations[] = {0.03, 0.017, 0.5, 0.0001, 1.3, 2.0, 0.03, 3.0, 0.25};
+        auto run = [&](RecordingSink& sink) {
+            EngineLoop loop(kickoffMatch(), settings, sink);
+            loop.start(0);
+            for (double d : durations) loop.handle(control(EngineRequest::Kind::Step, 0, d), 0);
+            return hashState(loop.simulation().state());
+        };
+        RecordingSink a, b;
+        const std::uint64_t hashA = run(a), hashB = run(b);
+        QCOMPARE(hashA, hashB);
+        QCOMPARE(a.instants.size(), std::size_t(1 + std::size(durations)));
+        std::int64_t step = 0;
+        for (std::size_t i = 1; i < a.instants.size(); ++i) {
+            step += static_cast<std::int64_t>(std::ceil(durations[i - 1] / 0.001 - 1e-9));
+            step = (step + 9) / 10 * 10;  // up to the next 10 ms tick
+            QCOMPARE(a.instants[i].step, step);
+            QCOMPARE(a.instants[i].hash, b.instants[i].hash);
+            Match offline(kickoffMatch());
+            offline.advanceTo(step);
+            QCOMPARE(a.instants[i].hash, hashState(offline.simulation().state()));
+        }
+        // The game was told of GAME_ON at 4 s, before the instant that first
+        // shows it (not of its start: nobody could listen yet).
+        QVERIFY(!a.games.empty());
+        QCOMPARE(a.games[0].phase, GamePhase::GameOn);
+        std::size_t first = 0;
+        while (a.instants[first].step < 4'000) ++first;
+        QCOMPARE(a.games[0].frame, std::int64_t(first));
+        QCOMPARE(a.games[0].step, a.instants[first].step);
+        QCOMPARE(a.games.size(), b.games.size());
+    }
+
+    void aResetStartsTheMatchAgainAndSaysSo() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(kickoffMatch(), settings, sink);
+        loop.start(0);
+        QVERIFY(sink.games.empty());
+        loop.handle(control(EngineRequest::Kind::Step, 0, 5.0), 0);
+        QCOMPARE(sink.games.size(), std::size_t(1));
+        loop.handle(control(EngineRequest::Kind::Reset), 0);
+        QCOMPARE(sink.games.size(), std::size_t(2));
+        QCOMPARE(sink.games.back().phase, GamePhase::Stop);
+        QCOMPARE(sink.games.back().frame, 0);
+        QCOMPARE(sink.games.back().step, 0);
+        QCOMPARE(loop.match().game().clock, 0.0);
+    }
+
+    void gameRequestsNeedAReferee() {
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), {}, sink);
+        loop.start(0);
+        for (auto kind : {EngineRequest::Kind::CallFoul, EngineRequest::Kind::HaltGame, EngineRequest::Kind::ResumeGame,
+                          EngineRequest::Kind::Placement}) {
+            EngineRequest r = control(kind, 1 * kMs);
+            r.call = Call::KickOff;
+            loop.handle(r, 1 * kMs);
+            QCOMPARE(sink.replies.back().error, QString("no_referee"));
+        }
+        QVERIFY(sink.games.empty());       // no referee, no game news
+        QVERIFY(!loop.match().ticking());  // the plain Simulation
+    }
+
+    void callHaltResumeAndPlacement() {
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(kickoffMatch(), settings, sink);
+        loop.start(0);
+        QCOMPARE(loop.match().game().phase, GamePhase::Stop);
+        // A legal placement during the kick-off's STOP moves the robot.
+        EngineRequest place = control(EngineRequest::Kind::Placement);
+        place.team = Team::Yellow;
+        RobotState pose;
+        pose.x = -0.5, pose.y = 0.3, pose.theta = 0.5;
+        place.poses = {{1, pose}};
+        loop.handle(place, 0);
+        QVERIFY(sink.replies.back().ok);
+        QCOMPARE(loop.simulation().state().robots[1].x, -0.5);
+        QCOMPARE(loop.simulation().state().robots[1].theta, 0.5);
+        // An illegal one (in the other half) is refused and nothing moves.
+        const WorldState before = loop.simulation().state();
+        place.poses = {{1, RobotState{0.4, 0.3, 0.0, 0.0, 0.0}}};
+        loop.handle(place, 0);
+        QCOMPARE(sink.replies.back().error, QString("illegal_placement"));
+        QVERIFY2(sink.replies.back().message.contains("yellow1 (robot 1)"), qPrintable(sink.replies.back().message));
+        QCOMPARE(hashState(loop.simulation().state()), hashState(before));
+        // GAME_ON by hand; then a placement is out of phase.
+        loop.handle(control(EngineRequest::Kind::ResumeGame), 0);
+        QVERIFY(sink.replies.back().ok);
+        QCOMPARE(loop.match().game().phase, GamePhase::GameOn);
+        QCOMPARE(sink.games.back().phase, GamePhase::GameOn);
+        loop.handle(place, 0);
+        QCOMPARE(sink.replies.back().error, QString("not_stopped"));
+        // HALT holds every robot at 0 V; a free ball by hand stops the game and places the ball.
+        loop.handle(control(EngineRequest::Kind::Step, 0, 0.5), 0);
+        loop.handle(control(EngineRequest::Kind::HaltGame), 0);
+        QCOMPARE(loop.match().game().phase, GamePhase::Halt);
+        for (const Voltages& v : loop.simulation().state().voltages) QCOMPARE(v.right, 0.0);
+        EngineRequest call = control(EngineRequest::Kind::CallFoul);
+        call.call = Call::FreeBall;
+        call.quadrant = 3;
+        loop.handle(call, 0);
+        QVERIFY(sink.replies.back().ok);
+        QCOMPARE(loop.match().game().last.call, Call::FreeBall);
+        QCOMPARE(sink.games.back().phase, GamePhase::Stop);
+        QVERIFY(loop.simulation().state().ball.x < 0 && loop.simulation().state().ball.y < 0);
+    }
+
+    void manualControlOverridesTheBuiltinTeam() {
+        // A person drives yellow0 (a built-in team's robot): their voltages
+        // hold through the team's ticks while the game is on; let go, the
+        // built-in team has it again from the next tick.
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(kickoffMatch(), settings, sink);
+        loop.start(0);
+        loop.handle(control(EngineRequest::Kind::ResumeGame), 0);
+        EngineRequest manual;
+        manual.kind = EngineRequest::Kind::ManualVoltages;
+        manual.voltages = {{0, Voltages{5.0, -5.0}}};
+        loop.handle(manual, 0);
+        loop.handle(control(EngineRequest::Kind::Step, 0, 0.255), 0);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 5.0);
+        QCOMPARE(loop.simulation().state().voltages[0].left, -5.0);
+        QVERIFY(std::abs(loop.simulation().state().robots[0].omega) > 1.0);  // spinning on the spot
+        // While the game is stopped it gets 0 V like every robot.
+        loop.handle(control(EngineRequest::Kind::HaltGame), 0);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 0.0);
+        loop.handle(control(EngineRequest::Kind::ResumeGame), 0);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 5.0);
+        EngineRequest release;
+        release.kind = EngineRequest::Kind::ReleaseManual;
+        release.robot = 0;
+        loop.handle(release, 0);
+        loop.handle(control(EngineRequest::Kind::Step, 0, 0.01), 0);
+        QVERIFY(loop.simulation().state().voltages[0].right != 5.0 ||
+                loop.simulation().state().voltages[0].left != -5.0);
+    }
+
+    void teamControlChangesAtOnce() {
+        // The yellow team idle: its robots stay at 0 V while blue plays.
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(kickoffMatch(), settings, sink);
+        loop.start(0);
+        EngineRequest idle = control(EngineRequest::Kind::SetTeamControl);
+        idle.team = Team::Yellow;
+        idle.control = TeamControl::Idle;
+        loop.handle(idle, 0);
+        QCOMPARE(loop.match().control(Team::Yellow), TeamControl::Idle);
+        const WorldState start = loop.simulation().state();
+        loop.handle(control(EngineRequest::Kind::Step, 0, 6.0), 0);
+        const WorldState& now = loop.simulation().state();
+        double yellowMoved = 0.0, blueMoved = 0.0;
+        for (int i = 0; i < 3; ++i) yellowMoved += moved(now.robots[i], start.robots[i]);
+        for (int i = 3; i < 6; ++i) blueMoved += moved(now.robots[i], start.robots[i]);
+        QVERIFY2(blueMoved > 0.05, qPrintable(QString::number(blueMoved)));
+        QVERIFY2(yellowMoved < blueMoved, qPrintable(QString("%1 %2").arg(yellowMoved).arg(blueMoved)));
+        for (int i = 0; i < 3; ++i) QCOMPARE(now.voltages[i].right, 0.0);
     }
 
     void statsReply() {

@@ -9,13 +9,14 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QFileInfo>
 #include <QLabel>
 #include <QPointer>
-#include <QFileInfo>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QtTest>
 #include <cmath>
+#include <tuple>
 
 #include "camera/camera_colours.h"
 #include "field_view.h"
@@ -28,11 +29,15 @@ using namespace vssim;
 
 namespace {
 
+// The kick-off's bodies as plain physics: the built-in scene is a match of
+// the built-in team against itself, but here nothing moves unless the test
+// moves it (no referee, both teams remote, no commands).
 Scene kickoff() {
     QString error;
     std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
     if (!scene) qFatal("%s", qPrintable(error));
-    scene->commands.clear();  // nothing moves unless the test moves it
+    scene->commands.clear();
+    scene->game = GameSettings{};
     return *scene;
 }
 
@@ -121,6 +126,55 @@ private slots:
         }));
     }
 
+    void doubleClickPutsTheBallThere() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        QTRY_VERIFY(view.snapshot() != nullptr);
+        const BallState before = w.session().latest()->ball;
+        const double pixel = 1.0 / (view.toWidget(1, 0).x() - view.toWidget(0, 0).x());
+        QTest::mouseDClick(&view, Qt::LeftButton, {}, at(view, 0.3, -0.2));
+        QVERIFY(waitFor(w, [&](const Snapshot& s) {
+            return std::hypot(s.ball.x - 0.3, s.ball.y + 0.2) < 1.5 * pixel && s.ball.vx == 0.0 && s.ball.vy == 0.0;
+        }));
+        // Off the floor (behind a goal's back wall): the view resets, the ball stays.
+        const BallState placed = w.session().latest()->ball;
+        QTest::mouseDClick(&view, Qt::LeftButton, {}, at(view, 0.95, 0.6));
+        QTest::qWait(100);
+        QCOMPARE(w.session().latest()->ball.x, placed.x);
+        // Undo puts it back.
+        action(w, "action.undo")->trigger();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.ball.x == before.x && s.ball.y == before.y; }));
+    }
+
+    void aRobotDraggedOutOfTheFloorStaysOnIt() {
+        MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        const Field field = w.session().scene().field;
+        const RobotState start = w.session().latest()->robots[4];  // blue1 at (0.35, -0.25)
+        const double side = w.session().scene().robots[4].params.side;
+        // Into the bottom right corner triangle, then into the goal, then behind the goal's back wall.
+        for (auto [x, y, inGoal] : {std::tuple{0.74, -0.64, false}, {0.80, 0.0, true}, {0.95, 0.05, true}}) {
+            const RobotState before = w.session().latest()->robots[4];
+            QTest::mousePress(&view, Qt::LeftButton, {}, at(view, before.x, before.y));
+            moveMouse(view, at(view, x, y));
+            QTest::mouseRelease(&view, Qt::LeftButton, {}, at(view, x, y));
+            QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.robots[4].x != before.x; }));
+            QTRY_VERIFY(view.snapshot() && view.snapshot()->robots[4].x == w.session().latest()->robots[4].x);
+            const RobotState r = w.session().latest()->robots[4];
+            QVERIFY2(robotInsideField(field, side, r.x, r.y, r.theta), qPrintable(QString("%1, %2").arg(r.x).arg(r.y)));
+            QCOMPARE(r.x > field.length / 2, inGoal);  // its centre in the goal when dragged there
+        }
+        Q_UNUSED(start);
+    }
+
     void keysDriveTheSelectedRobotAndManualOverridesTcp() {
         MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
         w.show();
@@ -169,6 +223,45 @@ private slots:
             return s.control[0].controller == RobotController::Tcp && s.voltages[0].right == -5.0;
         }));
         QCOMPARE(w.manualRobot(), -1);
+    }
+
+    void theDefaultSceneIsAMatchAndTheKeyboardOverridesTheBuiltinTeam() {
+        // The built-in kick-off as it is: the referee and the built-in team on both sides.
+        QString error;
+        const std::optional<Scene> match = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
+        QVERIFY2(match, qPrintable(error));
+        MainWindow w(*match, ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::Stop; }));
+        QCOMPARE(w.session().latest()->gameSettings.yellow, TeamControl::Builtin);
+        // GAME_ON without waiting the 4 s; the built-in teams play.
+        w.session().post(EngineRequest::Kind::ResumeGame);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::GameOn; }));
+        const Snapshot on = *w.session().latest();
+        QVERIFY(waitFor(w, [&](const Snapshot& s) {
+            return std::hypot(s.robots[4].x - on.robots[4].x, s.robots[4].y - on.robots[4].y) > 0.02;
+        }));
+        // The keyboard takes yellow2 (the built-in team's) over: W drives it at
+        // 60 % of 7.4 V. (Paused, so that the click finds it where it is.)
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        FieldView& view = w.fieldView();
+        const RobotState r2 = w.session().latest()->robots[2];
+        QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r2.x, r2.y));
+        QCOMPARE(view.selectedRobot(), 2);
+        QTest::keyPress(&view, Qt::Key_W);
+        QVERIFY(waitFor(w, [](const Snapshot& s) {
+            return s.control[2].controller == RobotController::Manual &&
+                   std::abs(s.voltages[2].right - 0.6 * 7.4) < 1e-12 && s.voltages[2].left == s.voltages[2].right;
+        }));
+        action(w, "action.playPause")->trigger();
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return !s.paused; }));
+        QTest::qWait(100);  // ten ticks of the built-in team later: still the person's
+        QVERIFY(std::abs(w.session().latest()->voltages[2].right - 0.6 * 7.4) < 1e-12);
+        QTest::keyRelease(&view, Qt::Key_W);
+        QTest::keyClick(&view, Qt::Key_Escape);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.control[2].controller != RobotController::Manual; }));
     }
 
     void pauseStepReset() {
@@ -293,6 +386,19 @@ private slots:
         }
         QVERIFY2(near(colourAt(0.2, 0.3), kBallColour), qPrintable(colourAt(0.2, 0.3).name()));
         QVERIFY(near(colourAt(0.4, -0.4), kFloorColour));
+        // The official field: floor in the goals, outside behind them and in
+        // the corner triangles, walls along the back of the goals and the
+        // triangles' hypotenuses, white at a free-ball mark.
+        for (auto [x, y] : {std::pair{0.80, 0.1}, {-0.80, -0.1}})
+            QVERIFY2(near(colourAt(x, y), kFloorColour), qPrintable(colourAt(x, y).name()));
+        for (auto [x, y] : {std::pair{0.90, 0.0}, {-0.90, 0.0}, {0.80, 0.35}, {0.745, 0.645}, {-0.745, -0.645}})
+            QVERIFY2(near(colourAt(x, y), kOutsideColour), qPrintable(colourAt(x, y).name()));
+        for (auto [x, y] : {std::pair{0.85, 0.0}, {-0.715, 0.615}})
+            QVERIFY2(near(colourAt(x, y), kWallColour), qPrintable(colourAt(x, y).name()));
+        QVERIFY2(near(colourAt(-0.375, -0.25), kMarkingColour) || colourAt(-0.375, -0.25).red() > 120,
+                 qPrintable(colourAt(-0.375, -0.25).name()));
+        const QByteArray fieldOut = qgetenv("VSSIM_FIELD_SCREENSHOT");
+        if (!fieldOut.isEmpty()) QVERIFY(image.save(QString::fromLocal8Bit(fieldOut)));
         const QByteArray out = qgetenv("VSSIM_SCREENSHOT");
         if (!out.isEmpty()) {
             // The README's picture: the kick-off as shipped, a moving robot selected.
@@ -433,6 +539,10 @@ private slots:
         const auto seen = window.fieldView().snapshot();
         QCOMPARE(seen->robots.size(), scene.robots.size());
         QCOMPARE(seen->scene->robots[3].name, std::string("blue0"));
+        // The field as the server has it (WELCOME's field: type and dimensions).
+        QCOMPARE(seen->scene->field.dimensions.type, FieldType::Vsss3v3);
+        QCOMPARE(seen->scene->field.walls.size(), scene.field.walls.size());
+        QCOMPARE(seen->scene->field.dimensions.goal_depth, 0.10);
         QVERIFY(seen->robots[1].x > scene.robots[1].initial.x);  // robot 1 drives (4 V, 3 V)
         // Pause through the window: the server's time stops.
         window.findChild<QAction*>("remote.pause")->trigger();

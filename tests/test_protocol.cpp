@@ -112,6 +112,10 @@ private slots:
     void controlErrors_data();
     void controlErrors();
     void controlNonFiniteNumbers();
+    void gameControlCommands();
+    void placementChecks();
+    void placementErrors_data();
+    void placementErrors();
     void reviewFindings();
     void messagesCarryNoControlCharacters();
     void printableTextCatchesEveryLineBreaker();
@@ -604,7 +608,7 @@ void TestProtocol::controlPlaceRobotBoundary() {
     const double edgeX = 0.75 - 0.0375, edgeY = 0.65 - 0.0375;
     QVERIFY(place(edgeX, 0, 0));
     QVERIFY(place(-edgeX, -edgeY, 0));
-    QVERIFY(!place(std::nextafter(edgeX, 1.0), 0, 0));
+    QVERIFY(!place(edgeX + 1e-12, 0, 0));  // touching counts as inside to 1e-13 m (vssim/field.h)
     QCOMPARE(error.code, QString("outside_field"));
     QVERIFY(!place(0, -edgeY - 1e-12, 0));
     QCOMPARE(error.code, QString("outside_field"));
@@ -648,6 +652,18 @@ void TestProtocol::controlErrors_data() {
     row("ball far", R"({"command": "place_ball", "x": 0, "y": -3})", "outside_field", "ball");
     row("ball no y", R"({"command": "place_ball", "x": 0})", "malformed", "\"y\"");
     row("ball key", R"({"command": "place_ball", "x": 0, "y": 0, "robot": 1})", "malformed", "\"robot\"");
+    // The game's commands.
+    row("halt key", R"({"command": "halt", "team": "yellow"})", "malformed", "\"team\"");
+    row("call nothing", R"({"command": "call"})", "malformed", "\"call\"");
+    row("call unknown", R"({"command": "call", "call": "free_kick", "team": "blue"})", "malformed", "free_kick");
+    row("call no team", R"({"command": "call", "call": "penalty_kick"})", "malformed", "\"team\"");
+    row("call bad team", R"({"command": "call", "call": "kickoff", "team": "red"})", "malformed", "red");
+    row("call quadrant of a kick-off", R"({"command": "call", "call": "kickoff", "team": "blue", "quadrant": 1})",
+        "malformed", "only a free ball");
+    row("free ball without quadrant", R"({"command": "call", "call": "free_ball"})", "malformed", "quadrant");
+    row("free ball quadrant 5", R"({"command": "call", "call": "free_ball", "quadrant": 5})", "malformed", "1 to 4");
+    row("free ball for a team", R"({"command": "call", "call": "free_ball", "quadrant": 2, "team": "blue"})",
+        "malformed", "no team");
     row("speed 0", R"({"command": "speed", "speed": 0})", "malformed", "speed");
     row("speed -1", R"({"command": "speed", "speed": -1})", "malformed", "speed");
     row("speed fast", R"({"command": "speed", "speed": "fast"})", "malformed", "speed");
@@ -669,6 +685,106 @@ void TestProtocol::controlErrors() {
     RequestError error;
     QVERIFY(!parseControl(obj(json.toUtf8().constData()), fourRobotScene(), &error));
     QCOMPARE(error.code, code);
+    QVERIFY2(error.message.contains(mentions), qPrintable(error.message));
+}
+
+void TestProtocol::gameControlCommands() {
+    const Scene scene = fourRobotScene();
+    RequestError error;
+    auto parse = [&](const char* json) { return parseControl(obj(json), scene, &error); };
+    const auto halt = parse(R"({"command": "halt", "id": 4})");
+    QVERIFY2(halt, qPrintable(error.message));
+    QCOMPARE(halt->kind, EngineRequest::Kind::HaltGame);
+    const auto on = parse(R"({"command": "game_on"})");
+    QVERIFY2(on, qPrintable(error.message));
+    QCOMPARE(on->kind, EngineRequest::Kind::ResumeGame);
+    const auto penalty = parse(R"({"command": "call", "call": "penalty_kick", "team": "blue"})");
+    QVERIFY2(penalty, qPrintable(error.message));
+    QCOMPARE(penalty->kind, EngineRequest::Kind::CallFoul);
+    QCOMPARE(penalty->call, Call::PenaltyKick);
+    QCOMPARE(penalty->team, Team::Blue);
+    const auto freeBall = parse(R"({"command": "call", "call": "free_ball", "quadrant": 3})");
+    QVERIFY2(freeBall, qPrintable(error.message));
+    QCOMPARE(freeBall->call, Call::FreeBall);
+    QCOMPARE(freeBall->quadrant, 3);
+    // Only `stats` leaves the game alone: a read-only observer may not halt, resume or call.
+    QVERIFY(!leavesTheGameAlone(*halt) && !leavesTheGameAlone(*on) && !leavesTheGameAlone(*penalty));
+}
+
+void TestProtocol::placementChecks() {
+    const Scene scene = fourRobotScene();
+    RequestError error;
+    const auto r = parsePlacement(
+        obj(R"({"id": 9, "robots": [{"robot": 1, "x": -0.3, "y": 0.2, "theta": 1.5}, {"robot": 0, "x": -0.5, "y": 0, "theta": 0}]})"),
+        scene, ClientRole::Yellow, &error);
+    QVERIFY2(r, qPrintable(error.message));
+    QCOMPARE(r->kind, EngineRequest::Kind::Placement);
+    QCOMPARE(r->team, Team::Yellow);
+    QCOMPARE(r->poses.size(), std::size_t(2));
+    QCOMPARE(r->poses[0].first, 1);
+    QCOMPARE(r->poses[0].second.x, -0.3);
+    QCOMPARE(r->poses[0].second.theta, 1.5);
+    QCOMPARE(r->poses[1].first, 0);
+    // Blue places blue robots.
+    QVERIFY(parsePlacement(obj(R"({"robots": [{"robot": 3, "x": 0.3, "y": 0, "theta": 3}]})"), scene, ClientRole::Blue,
+                           &error));
+    // Non-finite numbers, which JSON text cannot carry but a QJsonObject can.
+    for (double bad : {kNaN, kInf, -kInf}) {
+        const QJsonObject json{
+            {"robots", QJsonArray{QJsonObject{{"robot", 0}, {"x", bad}, {"y", 0.0}, {"theta", 0.0}}}}};
+        QVERIFY(!parsePlacement(json, scene, ClientRole::Yellow, &error));
+        QCOMPARE(error.code, QString("malformed"));
+        QVERIFY2(error.message.startsWith("PLACEMENT robots[0]: ") && error.message.contains("\"x\""),
+                 qPrintable(error.message));
+    }
+}
+
+void TestProtocol::placementErrors_data() {
+    QTest::addColumn<QString>("json");
+    QTest::addColumn<QString>("role");
+    QTest::addColumn<QString>("code");
+    QTest::addColumn<QString>("mentions");
+    auto row = [](const char* tag, const char* json, const char* role, const char* code, const char* mentions) {
+        QTest::newRow(tag) << QString(json) << QString(role) << QString(code) << QString(mentions);
+    };
+    const char* one = R"({"robots": [{"robot": 0, "x": -0.3, "y": 0, "theta": 0}]})";
+    row("observer", one, "observer", "not_your_robot", "observer");
+    row("other team's robot", one, "blue", "not_your_robot", "robot 0 (yellow0) belongs to the other team");
+    row("no robots", R"({"id": 1})", "yellow", "malformed", "\"robots\"");
+    row("robots empty", R"({"robots": []})", "yellow", "malformed", "non-empty array");
+    row("robots not an array", R"({"robots": {"robot": 0}})", "yellow", "malformed", "non-empty array");
+    row("unknown key", R"({"robots": [{"robot": 0, "x": 0, "y": 0, "theta": 0}], "team": "yellow"})", "yellow",
+        "malformed", "\"team\"");
+    row("entry not an object", R"({"robots": [3]})", "yellow", "malformed", "robots[0]: expected an object");
+    row("unknown robot", R"({"robots": [{"robot": 7, "x": 0, "y": 0, "theta": 0}]})", "yellow", "bad_robot",
+        "no robot 7 (the scene has robots 0 to 3)");
+    row("robot not a number", R"({"robots": [{"robot": "yellow0", "x": 0, "y": 0, "theta": 0}]})", "yellow",
+        "malformed", "\"robot\"");
+    row("no theta", R"({"robots": [{"robot": 0, "x": -0.3, "y": 0}]})", "yellow", "malformed", "theta");
+    row("x a string", R"({"robots": [{"robot": 0, "x": "NaN", "y": 0, "theta": 0}]})", "yellow", "malformed",
+        "\"x\" must be a finite number");
+    row("entry key", R"({"robots": [{"robot": 0, "x": -0.3, "y": 0, "theta": 0, "v": 1}]})", "yellow", "malformed",
+        "\"v\"");
+    row("twice",
+        R"({"robots": [{"robot": 1, "x": -0.3, "y": 0, "theta": 0}, {"robot": 1, "x": -0.5, "y": 0, "theta": 0}]})",
+        "yellow", "malformed", "robots[1]: robot 1 is placed twice");
+    row("outside", R"({"robots": [{"robot": 0, "x": -0.74, "y": 0, "theta": 0}]})", "yellow", "outside_field",
+        "robots[0]: robot 0 at (-0.74, 0) m");
+    row("too many", R"({"robots": [{}, {}, {}, {}, {}]})", "yellow", "malformed", "5 entries");
+}
+
+void TestProtocol::placementErrors() {
+    QFETCH(QString, json);
+    QFETCH(QString, role);
+    QFETCH(QString, code);
+    QFETCH(QString, mentions);
+    RequestError error;
+    const ClientRole r = role == "yellow" ? ClientRole::Yellow
+                         : role == "blue" ? ClientRole::Blue
+                                          : ClientRole::Observer;
+    QVERIFY(!parsePlacement(obj(json.toUtf8().constData()), fourRobotScene(), r, &error));
+    QCOMPARE(error.code, code);
+    QVERIFY2(error.message.startsWith("PLACEMENT"), qPrintable(error.message));
     QVERIFY2(error.message.contains(mentions), qPrintable(error.message));
 }
 

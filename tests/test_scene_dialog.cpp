@@ -25,10 +25,15 @@ using namespace vssim;
 
 namespace {
 
+// The kick-off's bodies without its game: the dialog has no game controls
+// yet, and some of its choices (a step longer than the game's tick, a box
+// field) make a scene with a referee unreadable; these tests are about the
+// physics it edits.
 Scene kickoff() {
     QString error;
-    const std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
+    std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
     if (!scene) qFatal("cannot load the kick-off scene: %s", qPrintable(error));
+    scene->game = GameSettings{};
     return *scene;
 }
 
@@ -79,6 +84,8 @@ private slots:
     void namesMustBeUniqueAndNonEmpty();
     void spinRangesAreTheReaders_data();
     void spinRangesAreTheReaders();
+    void fieldTypeSetsOfficialDimensions();
+    void inconsistentFieldIsRefused();
 };
 
 void TestSceneDialog::acceptingUnchangedReturnsTheSameScene() {
@@ -140,7 +147,11 @@ void TestSceneDialog::simulationSettings() {
     QCOMPARE(edited.simulation.dt, 0.002);
     QCOMPARE(edited.field.length, 1.8);
     QCOMPARE(edited.field.width, original.field.width);
-    const Field rebuilt = makeRectangularField(1.8, original.field.width);  // the walls moved too
+    QCOMPARE(edited.field.dimensions.type, FieldType::Vsss3v3);  // the rest of the official field stays
+    QCOMPARE(edited.field.dimensions.goal_width, 0.40);
+    FieldDimensions d = original.field.dimensions;
+    d.length = 1.8;
+    const Field rebuilt = makeField(d);  // the walls moved too
     QCOMPARE(edited.field.walls.size(), rebuilt.walls.size());
     for (std::size_t i = 0; i < rebuilt.walls.size(); ++i) {
         QVERIFY(edited.field.walls[i].a == rebuilt.walls[i].a);
@@ -329,6 +340,56 @@ void TestSceneDialog::spinRangesAreTheReaders() {
         value(above) = (std::round(spin->maximum() * resolution) + 1.0) / resolution;
         QVERIFY2(!readerAccepts(above), qPrintable(QString("%1 = %2").arg(box).arg(value(above))));
     }
+}
+
+void TestSceneDialog::fieldTypeSetsOfficialDimensions() {
+    SceneParametersDialog dialog(kickoff());
+    auto* type = child<QComboBox>(dialog, "field.type");
+    QCOMPARE(type->currentData().toInt(), int(FieldType::Vsss3v3));
+    QCOMPARE(child<QDoubleSpinBox>(dialog, "field.goal_width")->value(), 0.40);
+    QVERIFY(child<QDoubleSpinBox>(dialog, "field.goal_width")->isEnabled());
+
+    type->setCurrentIndex(type->findData(int(FieldType::Vsss5v5)));
+    const FieldDimensions five = dialog.scene().field.dimensions;
+    QCOMPARE(five.type, FieldType::Vsss5v5);
+    QCOMPARE(five.length, 2.20);
+    QCOMPARE(five.width, 1.80);
+    QCOMPARE(five.goal_depth, 0.15);
+    QCOMPARE(five.centre_radius, 0.25);
+    QCOMPARE(five.free_ball_y, 0.40);
+    QCOMPARE(dialog.scene().field.walls.size(), std::size_t(16));
+    // The boxes show the new values.
+    QCOMPARE(child<QDoubleSpinBox>(dialog, "field.length")->value(), 2.20);
+    QCOMPARE(child<QDoubleSpinBox>(dialog, "field.free_ball_y")->value(), 0.40);
+    QCOMPARE(dialog.validationError(), QString());  // the kick-off's bodies fit
+
+    // One dimension changed by hand: only it.
+    child<QDoubleSpinBox>(dialog, "field.corner_leg")->setValue(0.05);
+    QCOMPARE(dialog.scene().field.dimensions.corner_leg, 0.05);
+    QCOMPARE(dialog.scene().field.dimensions.goal_width, 0.40);
+    QCOMPARE(dialog.scene().field.dimensions.type, FieldType::Vsss5v5);
+
+    // The box: the seed's 1.50 x 1.30 m, its goal keys disabled and zero.
+    type->setCurrentIndex(type->findData(int(FieldType::Box)));
+    const Scene box = dialog.scene();
+    QCOMPARE(box.field.dimensions.type, FieldType::Box);
+    QCOMPARE(box.field.length, 1.50);
+    QCOMPARE(box.field.dimensions.goal_width, 0.0);
+    QCOMPARE(box.field.walls.size(), std::size_t(4));
+    QVERIFY(!child<QDoubleSpinBox>(dialog, "field.goal_width")->isEnabled());
+    QVERIFY(child<QDoubleSpinBox>(dialog, "field.centre_radius")->isEnabled());
+    QVERIFY(readerAccepts(box));
+}
+
+void TestSceneDialog::inconsistentFieldIsRefused() {
+    SceneParametersDialog dialog(kickoff());
+    child<QDoubleSpinBox>(dialog, "field.goal_width")->setValue(1.2);  // wider than the wall between the corners
+    QVERIFY2(dialog.validationError().contains("goal_width"), qPrintable(dialog.validationError()));
+    QVERIFY(dialog.validationError().contains("wider than its wall"));
+    child<QDoubleSpinBox>(dialog, "field.goal_width")->setValue(0.5);
+    QCOMPARE(dialog.validationError(), QString());
+    QCOMPARE(dialog.scene().field.dimensions.goal_width, 0.5);
+    QVERIFY(readerAccepts(dialog.scene()));
 }
 
 QTEST_MAIN(TestSceneDialog)

@@ -52,6 +52,18 @@ private slots:
     void commandsFindTheirRobotsInALargeScene();
     void unreadableFile();
     void exampleScenesLoad();
+    void fieldTypesAndTheirDefaults();
+    void fieldKeysOverrideOneByOne();
+    void fieldWithoutTypeIsTheBox();
+    void fieldRoundTripIsExact();
+    void badField_data();
+    void badField();
+    void placementUsesTheRealFloor();
+    void officialFloorArea();
+    void gameDefaultsAndKeys();
+    void gameRoundTripIsExact();
+    void badGame_data();
+    void badGame();
 };
 
 void TestSceneIo::emptySceneHasModelDefaults() {
@@ -60,6 +72,7 @@ void TestSceneIo::emptySceneHasModelDefaults() {
     QCOMPARE(s.field.length, 1.50);
     QCOMPARE(s.field.width, 1.30);
     QCOMPARE(s.field.walls.size(), std::size_t(4));
+    QCOMPARE(s.field.dimensions.type, FieldType::Box);
     QCOMPARE(s.simulation.dt, 0.001);
     QCOMPARE(s.simulation.integrator, Integrator::Rk4);
     QCOMPARE(s.simulation.collision_model, CollisionModel::Paper);
@@ -431,6 +444,356 @@ void TestSceneIo::exampleScenesLoad() {
         QString error;
         QVERIFY2(loadSceneFile(dir.filePath(f), &error), qPrintable(error));
     }
+    // The kick-off is played on the official 3 vs 3 field; the paper's experiment stays in its box.
+    QString error;
+    QCOMPARE(loadSceneFile(dir.filePath("kickoff_3v3.json"), &error)->field.dimensions.type, FieldType::Vsss3v3);
+    // The kick-off is a match, the built-in team on both sides, with no scripted voltages;
+    // vs_builtin_3v3 leaves yellow to a client.
+    const Scene kickoff = *loadSceneFile(dir.filePath("kickoff_3v3.json"), &error);
+    QVERIFY(kickoff.game.rules.referee);
+    QCOMPARE(kickoff.game.yellow, TeamControl::Builtin);
+    QCOMPARE(kickoff.game.blue, TeamControl::Builtin);
+    QVERIFY(kickoff.commands.empty());
+    const Scene versus = *loadSceneFile(dir.filePath("vs_builtin_3v3.json"), &error);
+    QVERIFY(versus.game.rules.referee);
+    QCOMPARE(versus.game.yellow, TeamControl::Remote);
+    QCOMPARE(versus.game.blue, TeamControl::Builtin);
+    // The physics scenes have no game.
+    QVERIFY(!loadSceneFile(dir.filePath("robot_hits_ball.json"), &error)->game.rules.referee);
+    QCOMPARE(loadSceneFile(dir.filePath("paper_fig13.json"), &error)->field.dimensions.type, FieldType::Box);
+}
+
+// The official dimensions, written out here from the shared rules (vsss-game.md,
+// "Fields") rather than taken from the engine, m.
+void TestSceneIo::fieldTypesAndTheirDefaults() {
+    const Scene three = parseOk(R"({"field": {"type": "vsss_3v3"}})");
+    const FieldDimensions& a = three.field.dimensions;
+    QCOMPARE(a.type, FieldType::Vsss3v3);
+    QCOMPARE(a.length, 1.50);
+    QCOMPARE(a.width, 1.30);
+    QCOMPARE(a.goal_width, 0.40);
+    QCOMPARE(a.goal_depth, 0.10);
+    QCOMPARE(a.corner_leg, 0.07);
+    QCOMPARE(a.centre_radius, 0.20);
+    QCOMPARE(a.goal_area_depth, 0.15);
+    QCOMPARE(a.goal_area_width, 0.70);
+    QCOMPARE(a.penalty_mark, 0.375);
+    QCOMPARE(a.free_ball_x, 0.375);
+    QCOMPARE(a.free_ball_y, 0.25);
+    QCOMPARE(three.field.walls.size(),
+             std::size_t(16));  // 2 long walls, 4 triangles, 4 short pieces, 2 x 3 in the goals
+    QCOMPARE(three.field.posts.size(), std::size_t(4));
+    QCOMPARE(three.field.lower, Eigen::Vector2d(-0.85, -0.65));
+    QCOMPARE(three.field.upper, Eigen::Vector2d(0.85, 0.65));
+
+    const Scene five = parseOk(R"({"field": {"type": "vsss_5v5"}})");
+    const FieldDimensions& b = five.field.dimensions;
+    QCOMPARE(b.type, FieldType::Vsss5v5);
+    QCOMPARE(b.length, 2.20);
+    QCOMPARE(b.width, 1.80);
+    QCOMPARE(b.goal_width, 0.40);
+    QCOMPARE(b.goal_depth, 0.15);
+    QCOMPARE(b.corner_leg, 0.07);
+    QCOMPARE(b.centre_radius, 0.25);
+    QCOMPARE(b.goal_area_depth, 0.15);
+    QCOMPARE(b.goal_area_width, 0.50);
+    QCOMPARE(b.penalty_mark, 0.375);
+    QCOMPARE(b.free_ball_x, 0.375);
+    QCOMPARE(b.free_ball_y, 0.40);
+    QCOMPARE(five.field.length, 2.20);
+
+    const Scene box = parseOk(R"({"field": {"type": "box"}})");
+    QCOMPARE(box.field.dimensions.type, FieldType::Box);
+    QCOMPARE(box.field.walls.size(), std::size_t(4));
+    QCOMPARE(box.field.dimensions.goal_width, 0.0);
+    QCOMPARE(box.field.dimensions.centre_radius, 0.20);
+}
+
+void TestSceneIo::fieldKeysOverrideOneByOne() {
+    // The rules' 7 cm corners, VSSReferee's 5 cm: one key changes, the rest stay official.
+    const Scene s = parseOk(R"({"field": {"type": "vsss_3v3", "corner_leg": 0.05, "goal_depth": 0.12}})");
+    QCOMPARE(s.field.dimensions.type, FieldType::Vsss3v3);
+    QCOMPARE(s.field.dimensions.corner_leg, 0.05);
+    QCOMPARE(s.field.dimensions.goal_depth, 0.12);
+    QCOMPARE(s.field.dimensions.goal_width, 0.40);
+    QCOMPARE(s.field.dimensions.free_ball_y, 0.25);
+    QCOMPARE(s.field.upper, Eigen::Vector2d(0.87, 0.65));
+    // A bigger field of the 3 vs 3 kind: only length and width given.
+    const Scene big = parseOk(R"({"field": {"type": "vsss_3v3", "length": 1.8, "width": 1.5}})");
+    QCOMPARE(big.field.length, 1.8);
+    QCOMPARE(big.field.dimensions.goal_area_width, 0.70);
+    // The box takes a centre radius of its own.
+    QCOMPARE(parseOk(R"({"field": {"centre_radius": 0.3}})").field.dimensions.centre_radius, 0.3);
+}
+
+void TestSceneIo::fieldWithoutTypeIsTheBox() {
+    // Files written before field types keep their meaning: the seed's closed box.
+    const Scene s = parseOk(R"({"field": {"length": 1.7, "width": 1.2}})");
+    QCOMPARE(s.field.dimensions.type, FieldType::Box);
+    QCOMPARE(s.field.walls.size(), std::size_t(4));
+    QVERIFY(s.field.posts.empty());
+    QCOMPARE(s.field.dimensions.centre_radius, 0.20);
+    QCOMPARE(s.field.lower, Eigen::Vector2d(-0.85, -0.6));
+    QCOMPARE(parseOk("{}").field.dimensions.type, FieldType::Box);
+    // A box too small for a 0.20 m circle has none (it used to be drawn across the walls).
+    QCOMPARE(parseOk(R"({"field": {"length": 0.3, "width": 1}})").field.dimensions.centre_radius, 0.0);
+}
+
+void TestSceneIo::fieldRoundTripIsExact() {
+    for (FieldType type : {FieldType::Box, FieldType::Vsss3v3, FieldType::Vsss5v5}) {
+        Scene s;
+        FieldDimensions d = officialDimensions(type);
+        d.length += 1.0 / 3;  // digits that need every bit
+        d.width += 0.1 / 7;
+        d.centre_radius = 0.2 + 1e-3 / 3;
+        if (type != FieldType::Box) {
+            d.goal_width = 0.4 + 0.01 / 3;
+            d.goal_depth = 0.1 + 0.01 / 7;
+            d.corner_leg = 0.05 + 1e-4 / 3;
+            d.goal_area_depth = 0.15 + 1e-3 / 7;
+            d.goal_area_width = 0.6 + 1e-3 / 9;
+            d.penalty_mark = 0.4 + 1e-3 / 11;
+            d.free_ball_x = 0.35 + 1e-3 / 13;
+            d.free_ball_y = 0.3 + 1e-3 / 17;
+        }
+        s.field = makeField(d);
+        const QByteArray json = sceneToJson(s);
+        QVERIFY(json.contains(QByteArray("\"type\": \"") + fieldTypeName(type).toUtf8() + "\""));
+        QString error;
+        const std::optional<Scene> back = parseScene(json, &error);
+        QVERIFY2(back, qPrintable(error));
+        const FieldDimensions& e = back->field.dimensions;
+        QCOMPARE(e.type, type);
+        for (const FieldDimensionKey& k : kFieldDimensionKeys) QCOMPARE(e.*k.dimension, d.*k.dimension);
+        QCOMPARE(back->field.walls.size(), s.field.walls.size());
+        for (std::size_t w = 0; w < s.field.walls.size(); ++w) {
+            QCOMPARE(back->field.walls[w].a, s.field.walls[w].a);
+            QCOMPARE(back->field.walls[w].b, s.field.walls[w].b);
+        }
+        // Written once more, the same bytes.
+        QCOMPARE(sceneToJson(*back), json);
+    }
+}
+
+void TestSceneIo::badField_data() {
+    QTest::addColumn<QByteArray>("json");
+    QTest::addColumn<QString>("message");
+    QTest::newRow("type") << QByteArray(R"({"field": {"type": "vsss_4v4"}})")
+                          << "field.type: expected one of \"box\", \"vsss_3v3\", \"vsss_5v5\" (got \"vsss_4v4\")";
+    QTest::newRow("type not a string") << QByteArray(R"({"field": {"type": 3}})") << "field.type: expected a string";
+    QTest::newRow("unknown key") << QByteArray(R"({"field": {"type": "vsss_3v3", "goal_height": 0.05}})")
+                                 << "field.goal_height: unknown key (expected one of: type, length, width, goal_width, "
+                                    "goal_depth, corner_leg, centre_radius, goal_area_depth, goal_area_width, "
+                                    "penalty_mark, free_ball_x, free_ball_y)";
+    QTest::newRow("goal without a type")
+        << QByteArray(R"({"field": {"length": 1.5, "width": 1.3, "goal_width": 0.4}})")
+        << "field.goal_width: a box has no goals, corner triangles or goal areas (give field.type \"vsss_3v3\" or "
+           "\"vsss_5v5\" for a field with goals)";
+    QTest::newRow("corner on a box") << QByteArray(R"({"field": {"type": "box", "corner_leg": 0.07}})")
+                                     << "field.corner_leg: a box has no goals";
+    QTest::newRow("negative goal") << QByteArray(R"({"field": {"type": "vsss_3v3", "goal_width": -0.4}})")
+                                   << "field.goal_width: must be between 0 and 100 m (got -0.4)";
+    QTest::newRow("huge mark") << QByteArray(R"({"field": {"type": "vsss_5v5", "free_ball_y": 1e5}})")
+                               << "field.free_ball_y: must be between 0 and 100 m (got 100000)";
+    QTest::newRow("length") << QByteArray(R"({"field": {"type": "vsss_3v3", "length": 0}})")
+                            << "field.length: must be between 0.001 and 100 m (got 0)";
+    QTest::newRow("goal wider than its wall")
+        << QByteArray(R"({"field": {"type": "vsss_3v3", "goal_width": 1.2}})")
+        << "field.goal_width: the goal is wider than its wall: it must be narrower than the width minus two corner "
+           "legs (got 1.2 m)";
+    QTest::newRow("goal without depth") << QByteArray(R"({"field": {"type": "vsss_3v3", "goal_depth": 0}})")
+                                        << "field.goal_depth: a field with goals needs goals at least some depth deep "
+                                           "(got 0 m)";
+    QTest::newRow("corners meet") << QByteArray(R"({"field": {"type": "vsss_3v3", "corner_leg": 0.7}})")
+                                  << "field.corner_leg: the corner triangles would meet";
+    QTest::newRow("circle") << QByteArray(R"({"field": {"type": "vsss_3v3", "centre_radius": 0.65}})")
+                            << "field.centre_radius: the centre circle must fit inside the field (got 0.65 m)";
+    QTest::newRow("circle on a box") << QByteArray(R"({"field": {"length": 0.3, "width": 1, "centre_radius": 0.2}})")
+                                     << "field.centre_radius: the centre circle must fit inside the field (got 0.2 m)";
+    QTest::newRow("goal area") << QByteArray(R"({"field": {"type": "vsss_3v3", "goal_area_depth": 0.75}})")
+                               << "field.goal_area_depth: a goal area must end before the halfway line (got 0.75 m)";
+    QTest::newRow("narrow field for its goal area")
+        << QByteArray(R"({"field": {"type": "vsss_3v3", "width": 0.6}})")
+        << "field.goal_area_width: a goal area cannot be wider than the field (got 0.7 m)";
+    QTest::newRow("free-ball marks") << QByteArray(R"({"field": {"type": "vsss_3v3", "free_ball_y": 0.65}})")
+                                     << "field.free_ball_y: the free-ball marks must lie inside the field (got 0.65 m)";
+    QTest::newRow("penalty mark") << QByteArray(R"({"field": {"type": "vsss_5v5", "penalty_mark": 1.2}})")
+                                  << "field.penalty_mark: the penalty mark must lie in its own half (got 1.2 m)";
+}
+
+void TestSceneIo::badField() {
+    QFETCH(QByteArray, json);
+    QFETCH(QString, message);
+    QString error;
+    QVERIFY(!parseScene(json, &error));
+    QVERIFY2(error.startsWith(message), qPrintable("got: " + error));
+}
+
+void TestSceneIo::placementUsesTheRealFloor() {
+    QString error;
+    // In the goal (it is 0.10 m deep, 0.40 m wide): on the floor.
+    const Scene inGoal = parseOk(R"({"field": {"type": "vsss_3v3"}, "ball": {"x": -0.82, "y": 0.1},
+        "robots": [{"x": 0.8, "y": 0.0}]})");
+    QCOMPARE(inGoal.robots[0].initial.x, 0.8);
+    // The same on the box: outside, said with the |x| bound as before.
+    QVERIFY(!parseScene(R"({"robots": [{"x": 0.8}]})", &error));
+    QCOMPARE(error, QString("robots[0].x: 0.8 m is outside the field (|x| must be <= 0.7125 m)"));
+    // Behind the back wall (x = 0.85), and beside the goal, past the goal line.
+    QVERIFY(!parseScene(R"({"field": {"type": "vsss_3v3"}, "ball": {"x": 0.86}})", &error));
+    QCOMPARE(error, QString("ball: at (0.86, 0) m it is not wholly on the field's floor: it crosses a wall, a corner "
+                            "triangle or a goal post"));
+    QVERIFY(!parseScene(R"({"field": {"type": "vsss_3v3"}, "robots": [{"x": 0.77, "y": 0.4}]})", &error));
+    QVERIFY2(error.startsWith("robots[0]: at (0.77, 0.4) m it is not wholly"), qPrintable(error));
+    // Across a post: the square's centre in the goal mouth, a side over the post at (0.75, 0.2).
+    QVERIFY(!parseScene(R"({"field": {"type": "vsss_3v3"}, "robots": [{"x": 0.75, "y": 0.19}]})", &error));
+    QVERIFY2(error.startsWith("robots[0]: at (0.75, 0.19) m"), qPrintable(error));
+    // Over a corner triangle (its hypotenuse is x + y = 1.33 at the top right): refused
+    // there, fine on the box; a robot turned by 45 degrees fits flat against it.
+    const QByteArray corner = R"({"field": {"type": "vsss_3v3"}, "robots": [{"x": 0.7, "y": 0.6}]})";
+    QVERIFY(!parseScene(corner, &error));
+    QVERIFY2(error.startsWith("robots[0]: at (0.7, 0.6) m it is not wholly"), qPrintable(error));
+    parseOk(R"({"robots": [{"x": 0.7, "y": 0.6}]})");
+    // A face on the hypotenuse, centred on its midpoint (0.715, 0.615).
+    const double back = 0.0375 / std::sqrt(2.0) + 1e-9;
+    parseOk(QStringLiteral(R"({"field": {"type": "vsss_3v3"}, "robots": [{"x": %1, "y": %2, "theta": %3}]})")
+                .arg(0.715 - back, 0, 'g', 17)
+                .arg(0.615 - back, 0, 'g', 17)
+                .arg(M_PI / 4, 0, 'g', 17)
+                .toUtf8());
+    // Bigger than the field: said so on any type.
+    QVERIFY(!parseScene(R"({"field": {"type": "vsss_3v3"}, "robot_defaults": {"side": 1.4}, "robots": [{}]})", &error));
+    QVERIFY2(error.startsWith("robots[0]: the field (1.5 m x 1.3 m) is smaller than the robot"), qPrintable(error));
+}
+
+void TestSceneIo::officialFloorArea() {
+    // 1.50 x 1.30 plus two 0.40 x 0.10 goals less four triangles of legs 0.07.
+    const Scene s = parseOk(R"({"field": {"type": "vsss_3v3"}})");
+    QVERIFY(std::abs(floorArea(s.field) - (1.95 + 2 * 0.04 - 4 * 0.5 * 0.07 * 0.07)) < 1e-12);
+    QCOMPARE(floorArea(parseOk("{}").field), 1.5 * 1.3);
+    // The crowd limit uses it: 179 default robots fit in half of 2.0202 m², 180 do not.
+    auto crowd = [](int robots) {
+        QByteArray json = R"({"field": {"type": "vsss_3v3"}, "robots": [)";
+        for (int i = 0; i < robots; ++i) json += i ? ",{}" : "{}";
+        return json + "]}";
+    };
+    QString error;
+    QVERIFY2(parseScene(crowd(179), &error), qPrintable(error));
+    QVERIFY(!parseScene(crowd(180), &error));
+    QVERIFY2(error.contains("more than 50% of the field's 2.02 m²"), qPrintable(error));
+}
+
+void TestSceneIo::gameDefaultsAndKeys() {
+    QString error;
+    // Without a game section: no referee, both teams remote, the rules' defaults.
+    const std::optional<Scene> plain = parseScene("{}", &error);
+    QVERIFY2(plain, qPrintable(error));
+    const GameRules defaults;
+    QVERIFY(!plain->game.rules.referee);
+    QCOMPARE(plain->game.yellow, TeamControl::Remote);
+    QCOMPARE(plain->game.blue, TeamControl::Remote);
+    QCOMPARE(plain->game.rules.half_duration, defaults.half_duration);
+    // Each key lands in its field; the others keep their defaults.
+    const std::optional<Scene> s = parseScene(R"({"field": {"type": "vsss_3v3"}, "simulation": {"dt": 0.002},
+        "game": {"referee": true, "halves": 4, "half_duration": 60, "stop_duration": 0, "stuck_ball_speed": 0.05,
+                 "stuck_ball_time": 2.5, "crowded_area_time": 1, "free_ball_distance": 0.25, "tick": 0.02,
+                 "yellow": "builtin", "blue": "idle"}})",
+                                              &error);
+    QVERIFY2(s, qPrintable(error));
+    const GameRules& r = s->game.rules;
+    QVERIFY(r.referee);
+    QCOMPARE(r.halves, 4);
+    QCOMPARE(r.half_duration, 60.0);
+    QCOMPARE(r.stop_duration, 0.0);
+    QCOMPARE(r.stuck_ball_speed, 0.05);
+    QCOMPARE(r.stuck_ball_time, 2.5);
+    QCOMPARE(r.crowded_area_time, 1.0);
+    QCOMPARE(r.free_ball_distance, 0.25);
+    QCOMPARE(r.tick, 0.02);
+    QCOMPARE(s->game.yellow, TeamControl::Builtin);
+    QCOMPARE(s->game.blue, TeamControl::Idle);
+    // A tick of exactly one step is fine; so is one of 0.003 s at dt 0.001 s (rounding included).
+    QVERIFY2(parseScene(R"({"simulation": {"dt": 0.0005}, "game": {"tick": 0.0005, "yellow": "builtin"}})", &error),
+             qPrintable(error));
+    QVERIFY2(parseScene(R"({"game": {"tick": 0.003, "yellow": "builtin"}})", &error), qPrintable(error));
+    // Nothing acts at the tick without a referee or a built-in team: it is not checked against dt then
+    // (a physics scene written back with another dt still reads).
+    QVERIFY2(parseScene(R"({"simulation": {"dt": 0.0007}, "game": {"tick": 0.01}})", &error), qPrintable(error));
+}
+
+void TestSceneIo::gameRoundTripIsExact() {
+    Scene s;
+    s.field = makeField(officialDimensions(FieldType::Vsss5v5));
+    s.game.rules = {true, 3, 100.0 / 3, 2.5, 0.07, 4.0 / 3, 2.0, 0.18, 0.005};
+    s.game.yellow = TeamControl::Idle;
+    s.game.blue = TeamControl::Builtin;
+    QString error;
+    const std::optional<Scene> back = parseScene(sceneToJson(s), &error);
+    QVERIFY2(back, qPrintable(error));
+    const GameRules& a = s.game.rules;
+    const GameRules& b = back->game.rules;
+    QCOMPARE(b.referee, a.referee);
+    QCOMPARE(b.halves, a.halves);
+    QCOMPARE(b.half_duration, a.half_duration);
+    QCOMPARE(b.stop_duration, a.stop_duration);
+    QCOMPARE(b.stuck_ball_speed, a.stuck_ball_speed);
+    QCOMPARE(b.stuck_ball_time, a.stuck_ball_time);
+    QCOMPARE(b.crowded_area_time, a.crowded_area_time);
+    QCOMPARE(b.free_ball_distance, a.free_ball_distance);
+    QCOMPARE(b.tick, a.tick);
+    QCOMPARE(back->game.yellow, TeamControl::Idle);
+    QCOMPARE(back->game.blue, TeamControl::Builtin);
+    // And the default game (a physics scene) comes back as it was.
+    const std::optional<Scene> plain = parseScene(sceneToJson(Scene{}), &error);
+    QVERIFY2(plain, qPrintable(error));
+    QVERIFY(!plain->game.rules.referee);
+    QCOMPARE(plain->game.yellow, TeamControl::Remote);
+}
+
+void TestSceneIo::badGame_data() {
+    QTest::addColumn<QByteArray>("json");
+    QTest::addColumn<QString>("message");
+    const QByteArray official = R"("field": {"type": "vsss_3v3"}, )";
+    QTest::newRow("not an object") << QByteArray(R"({"game": true})") << "game: expected an object";
+    QTest::newRow("unknown key") << QByteArray(R"({"game": {"referees": true}})")
+                                 << "game.referees: unknown key (expected one of: referee, halves,";
+    QTest::newRow("referee not bool") << QByteArray(R"({"game": {"referee": 1}})")
+                                      << "game.referee: expected true or false";
+    QTest::newRow("referee on a box") << QByteArray(R"({"game": {"referee": true}})")
+                                      << "game.referee: a referee needs a field with goals";
+    QTest::newRow("no halves") << QByteArray("{" + official + R"("game": {"halves": 0}})")
+                               << "game.halves: must be between 1 and 10 (got 0)";
+    QTest::newRow("half a half") << QByteArray("{" + official + R"("game": {"halves": 1.5}})")
+                                 << "game.halves: must be a whole number (got 1.5)";
+    QTest::newRow("half duration") << QByteArray(R"({"game": {"half_duration": 0}})")
+                                   << "game.half_duration: must be > 0 and <= 86400 s (got 0)";
+    QTest::newRow("stop duration") << QByteArray(R"({"game": {"stop_duration": -1}})")
+                                   << "game.stop_duration: must be between 0 and 600 s (got -1)";
+    QTest::newRow("stuck speed") << QByteArray(R"({"game": {"stuck_ball_speed": "slow"}})")
+                                 << "game.stuck_ball_speed: expected a number";
+    QTest::newRow("stuck time") << QByteArray(R"({"game": {"stuck_ball_time": -1}})")
+                                << "game.stuck_ball_time: must be > 0 and <= 3600 s (got -1)";
+    QTest::newRow("crowded time") << QByteArray(R"({"game": {"crowded_area_time": 0}})")
+                                  << "game.crowded_area_time: must be > 0 and <= 3600 s (got 0)";
+    QTest::newRow("free ball distance") << QByteArray(R"({"game": {"free_ball_distance": 2}})")
+                                        << "game.free_ball_distance: must be > 0 and <= 1 m (got 2)";
+    QTest::newRow("tick not whole steps")
+        << QByteArray(R"({"game": {"tick": 0.0105, "blue": "builtin"}})")
+        << "game.tick: must be a whole number of steps of simulation.dt (0.001 s; got 0.0105 s, 10.5 steps)";
+    QTest::newRow("tick below dt")
+        << QByteArray("{" + official + R"("simulation": {"dt": 0.002}, "game": {"referee": true, "tick": 0.001}})")
+        << "game.tick: must be at least one step of simulation.dt (0.002 s; got 0.001 s)";
+    QTest::newRow("tick zero") << QByteArray(R"({"game": {"tick": 0}})") << "game.tick: must be > 0 and <= 1 s (got 0)";
+    QTest::newRow("bad control") << QByteArray(R"({"game": {"yellow": "tcp"}})")
+                                 << R"(game.yellow: expected one of "builtin", "remote", "idle" (got "tcp"))";
+    QTest::newRow("control not a string") << QByteArray(R"({"game": {"blue": 1}})") << "game.blue: expected a string";
+}
+
+void TestSceneIo::badGame() {
+    QFETCH(QByteArray, json);
+    QFETCH(QString, message);
+    QString error;
+    QVERIFY(!parseScene(json, &error));
+    QVERIFY2(error.startsWith(message), qPrintable(error));
 }
 
 QTEST_GUILESS_MAIN(TestSceneIo)

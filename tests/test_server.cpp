@@ -38,11 +38,24 @@ using protocol::MessageType;
 
 namespace {
 
+// The kick-off's bodies as plain physics: the built-in scene is a match of
+// the built-in team against itself, but these tests drive every robot
+// themselves, so no referee and both teams remote.
 Scene kickoff() {
     QString error;
     std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
     if (!scene) qFatal("%s", qPrintable(error));
     scene->commands.clear();  // only the clients drive
+    scene->game = GameSettings{};
+    return *scene;
+}
+
+// The kick-off played as a match: the referee on, yellow left to a client,
+// blue the built-in team (the built-in scene vs_builtin_3v3).
+Scene versusBuiltin() {
+    QString error;
+    std::optional<Scene> scene = loadSceneFile(":/scenes/vs_builtin_3v3.json", &error);
+    if (!scene) qFatal("%s", qPrintable(error));
     return *scene;
 }
 
@@ -979,6 +992,241 @@ private slots:
         serve.terminate();
         QVERIFY(serve.waitForFinished(5000));
         QVERIFY(serve.readAllStandardError().contains("observers are read-only"));
+    }
+
+    void welcomeCarriesTheGameAndBuiltinTeamsRefuseClients() {
+        Served served(versusBuiltin(), RunMode::Lockstep);
+        QJsonObject welcome;
+        auto yellow = join(served.port(), helloJson("yellow", "none"), &welcome);
+        QVERIFY(yellow);
+        const QJsonObject game = welcome["game"].toObject();
+        QCOMPARE(game["referee"].toBool(), true);
+        QCOMPARE(game["yellow"].toString(), QString("remote"));
+        QCOMPARE(game["blue"].toString(), QString("builtin"));
+        QCOMPARE(game["half_duration"].toDouble(), 300.0);
+        QCOMPARE(game["tick"].toDouble(), 0.01);
+        const QJsonObject state = game["state"].toObject();
+        QCOMPARE(state["phase"].toString(), QString("stop"));
+        QCOMPARE(state["call"].toString(), QString("kickoff"));
+        QCOMPARE(state["team"].toString(), QString("yellow"));
+        QCOMPARE(state["goals"].toObject()["yellow"].toInt(), 0);
+        // The built-in team's side is not a client's to drive.
+        ProtocolClient blue;
+        QVERIFY(blue.connectTo(served.port()));
+        blue.sendJson(MessageType::Hello, helloJson("blue", "none"));
+        const QJsonObject refused = expectError(blue, "role_not_remote");
+        QVERIFY2(refused["message"].toString().contains("built-in team"), qPrintable(refused["message"].toString()));
+        QVERIFY(refused["fatal"].toBool());
+        // A physics scene's WELCOME says there is no referee, both teams remote.
+        Served physics(kickoff(), RunMode::Lockstep);
+        auto observer = join(physics.port(), helloJson("observer", "none"), &welcome);
+        QVERIFY(observer);
+        QCOMPARE(welcome["game"].toObject()["referee"].toBool(), false);
+        QCOMPARE(welcome["game"].toObject()["blue"].toString(), QString("remote"));
+    }
+
+    void aGoalIsRefereedAndScored() {
+        // GAME_ON by hand, the ball put into blue's goal: the next tick is a
+        // goal by yellow. Every client gets a REFEREE before the FRAME and
+        // STATE of the instant that shows it, and STATE carries the score.
+        Served served(versusBuiltin(), RunMode::Lockstep);
+        auto yellow = join(served.port(), helloJson("yellow", "none", "png", true));
+        auto observer = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(yellow && observer);
+        yellow->sendJson(MessageType::Control, controlJson("game_on", {}, 1));
+        auto on = yellow->nextOf(MessageType::Referee);
+        QVERIFY(on);
+        QCOMPARE(jsonPayload(on->message)["phase"].toString(), QString("game_on"));
+        QVERIFY(yellow->nextOf(MessageType::Reply));
+        yellow->sendJson(MessageType::Control, controlJson("place_ball", {{"x", 0.8}, {"y", 0.05}}, 2));
+        QVERIFY(yellow->nextOf(MessageType::Reply));
+        std::vector<protocol::Message> before;
+        const QJsonObject reply = step(*yellow, 0.03, &before);
+        QVERIFY(reply["ok"].toBool());
+        QCOMPARE(before.size(), std::size_t(2));  // REFEREE, then STATE (no images)
+        QCOMPARE(before[0].type, std::uint8_t(MessageType::Referee));
+        QCOMPARE(before[1].type, std::uint8_t(MessageType::State));
+        const QJsonObject referee = jsonPayload(before[0]);
+        QCOMPARE(referee["phase"].toString(), QString("stop"));
+        QCOMPARE(referee["call"].toString(), QString("kickoff"));
+        QCOMPARE(referee["team"].toString(), QString("blue"));  // the team that conceded kicks off
+        QCOMPARE(referee["reason"].toString(), QString("goal by yellow"));
+        QCOMPARE(referee["goals"].toObject()["yellow"].toInt(), 1);
+        QCOMPARE(referee["goals"].toObject()["blue"].toInt(), 0);
+        QCOMPARE(referee["half"].toInt(), 1);
+        QCOMPARE(referee["frame"].toInt(), 1);
+        const QJsonObject state = jsonPayload(before[1]);
+        QCOMPARE(state["game"].toObject()["goals"].toObject()["yellow"].toInt(), 1);
+        QCOMPARE(state["game"].toObject()["phase"].toString(), QString("stop"));
+        // The referee put the ball back on the centre spot for the kick-off.
+        QCOMPARE(state["ball"].toObject()["x"].toDouble(), 0.0);
+        // The observer was told too.
+        auto told = observer->nextOf(MessageType::Referee);
+        QVERIFY(told);  // the GAME_ON
+        told = observer->nextOf(MessageType::Referee);
+        QVERIFY(told);
+        QCOMPARE(jsonPayload(told->message)["reason"].toString(), QString("goal by yellow"));
+        // A new client's WELCOME has the score.
+        QJsonObject welcome;
+        auto late = join(served.port(), helloJson("observer", "none"), &welcome);
+        QVERIFY(late);
+        QCOMPARE(welcome["game"].toObject()["state"].toObject()["goals"].toObject()["yellow"].toInt(), 1);
+    }
+
+    void placementsDuringStop() {
+        Served served(versusBuiltin(), RunMode::Lockstep);
+        auto yellow = join(served.port(), helloJson("yellow", "none", "png", true));
+        QVERIFY(yellow);
+        auto robots = [&] {
+            std::vector<protocol::Message> before;
+            step(*yellow, 0.01, &before);
+            return jsonPayload(before.back())["robots"].toArray();
+        };
+        const QJsonArray placed = robots();  // the referee's kick-off placement
+        // A legal placement moves the robots.
+        yellow->sendJson(
+            MessageType::Placement,
+            QJsonObject{{"id", 5},
+                        {"robots", QJsonArray{QJsonObject{{"robot", 1}, {"x", -0.4}, {"y", 0.3}, {"theta", 0.5}},
+                                              QJsonObject{{"robot", 2}, {"x", -0.3}, {"y", -0.35}, {"theta", 0.0}}}}});
+        const auto ok = yellow->nextOf(MessageType::Reply);
+        QVERIFY(ok);
+        QCOMPARE(jsonPayload(ok->message)["command"].toString(), QString("placement"));
+        QCOMPARE(jsonPayload(ok->message)["id"].toInt(), 5);
+        QJsonArray now = robots();
+        QCOMPARE(now[1].toObject()["x"].toDouble(), -0.4);
+        QCOMPARE(now[1].toObject()["theta"].toDouble(), 0.5);
+        QCOMPARE(now[2].toObject()["y"].toDouble(), -0.35);
+        QCOMPARE(now[0].toObject()["x"].toDouble(), placed[0].toObject()["x"].toDouble());  // not named: unmoved
+        // An illegal one (a robot in the other half) gets ERROR, and nothing moves.
+        yellow->sendJson(
+            MessageType::Placement,
+            QJsonObject{{"id", 6},
+                        {"robots", QJsonArray{QJsonObject{{"robot", 0}, {"x", -0.6}, {"y", 0.0}, {"theta", 0.0}},
+                                              QJsonObject{{"robot", 1}, {"x", 0.3}, {"y", 0.3}, {"theta", 0.0}}}}});
+        QJsonObject error = expectError(*yellow, "illegal_placement");
+        QVERIFY2(error["message"].toString().startsWith("PLACEMENT: yellow1 (robot 1)"),
+                 qPrintable(error["message"].toString()));
+        QCOMPARE(error["id"].toInt(), 6);
+        QCOMPARE(error["fatal"].toBool(), false);
+        const QJsonArray after = robots();
+        for (int i = 0; i < 6; ++i) QCOMPARE(after[i].toObject()["x"].toDouble(), now[i].toObject()["x"].toDouble());
+        // Malformed ones get errors that say what and where; none crashes anything.
+        yellow->send(MessageType::Placement, R"({"robots": [{"robot": 0, "x": NaN, "y": 0, "theta": 0}]})");
+        error = expectError(*yellow, "malformed");
+        QVERIFY2(error["message"].toString().startsWith("PLACEMENT: invalid JSON"),
+                 qPrintable(error["message"].toString()));
+        yellow->send(MessageType::Placement, R"({"robots": [{"robot": 0, "x": "NaN", "y": 0, "theta": 0}]})");
+        error = expectError(*yellow, "malformed");
+        QVERIFY2(error["message"].toString().contains("\"x\" must be a finite number"),
+                 qPrintable(error["message"].toString()));
+        yellow->send(MessageType::Placement, R"({"robots": [{"robot": 9, "x": 0, "y": 0, "theta": 0}]})");
+        QVERIFY(expectError(*yellow, "bad_robot")["message"].toString().contains("no robot 9"));
+        yellow->send(MessageType::Placement, R"({"robots": [{"robot": 4, "x": 0.3, "y": 0, "theta": 0}]})");
+        QVERIFY(expectError(*yellow, "not_your_robot")["message"].toString().contains("blue1"));
+        yellow->send(MessageType::Placement, QByteArray("\x00\xff", 2));
+        QVERIFY(!expectError(*yellow, "malformed").isEmpty());
+        // Out of phase: once the game is on, placements are refused.
+        yellow->sendJson(MessageType::Control, controlJson("game_on", {}, 7));
+        QVERIFY(yellow->nextOf(MessageType::Reply));
+        yellow->send(MessageType::Placement, R"({"id": 8, "robots": [{"robot": 0, "x": -0.6, "y": 0, "theta": 0}]})");
+        error = expectError(*yellow, "not_stopped");
+        QVERIFY2(error["message"].toString().contains("only while the game is stopped"),
+                 qPrintable(error["message"].toString()));
+        // An observer places nothing; the connection carries on.
+        auto observer = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(observer);
+        observer->send(MessageType::Placement, R"({"robots": [{"robot": 0, "x": -0.6, "y": 0, "theta": 0}]})");
+        QVERIFY(!expectError(*observer, "not_your_robot").isEmpty());
+        QVERIFY(step(*yellow, 0.03)["ok"].toBool());
+        // Without a referee there is no game to place robots for.
+        Served physics(kickoff(), RunMode::Lockstep);
+        auto team = join(physics.port(), helloJson("yellow", "none"));
+        QVERIFY(team);
+        team->send(MessageType::Placement, R"({"robots": [{"robot": 0, "x": -0.6, "y": 0, "theta": 0}]})");
+        QVERIFY(!expectError(*team, "no_referee").isEmpty());
+        team->sendJson(MessageType::Control, controlJson("halt"));
+        QVERIFY(!expectError(*team, "no_referee").isEmpty());
+    }
+
+    void aClientPlaysYellowAgainstTheBuiltinBlue() {
+        // A short lockstep match: the client drives yellow0 forward; its
+        // voltages wait through the kick-off's STOP (0 V) and act once the
+        // game is on, while the built-in blue team plays.
+        Served served(versusBuiltin(), RunMode::Lockstep);
+        auto yellow = join(served.port(), helloJson("yellow", "none", "png", true));
+        QVERIFY(yellow);
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{0, Voltages{3.0, 3.0}}}));
+        auto stateAfter = [&](double duration) {
+            std::vector<protocol::Message> before;
+            const QJsonObject reply = step(*yellow, duration, &before);
+            if (!reply["ok"].toBool() || before.empty()) return QJsonObject{};
+            return jsonPayload(before.back());
+        };
+        const QJsonObject stopped = stateAfter(2.0);
+        QCOMPARE(stopped["game"].toObject()["phase"].toString(), QString("stop"));
+        QCOMPARE(stopped["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 0.0);
+        const QJsonObject kickoff = stateAfter(2.0);  // t = 4 s: GAME_ON
+        QCOMPARE(kickoff["game"].toObject()["phase"].toString(), QString("game_on"));
+        const QJsonObject playing = stateAfter(1.5);
+        QCOMPARE(playing["game"].toObject()["phase"].toString(), QString("game_on"));
+        QCOMPARE(playing["robots"].toArray()[0].toObject()["right_voltage"].toDouble(), 3.0);
+        const QJsonArray a = kickoff["robots"].toArray(), b = playing["robots"].toArray();
+        auto moved = [&](int i) {
+            return std::hypot(b[i].toObject()["x"].toDouble() - a[i].toObject()["x"].toDouble(),
+                              b[i].toObject()["y"].toDouble() - a[i].toObject()["y"].toDouble());
+        };
+        QVERIFY2(moved(0) > 0.1, qPrintable(QString::number(moved(0))));  // the client's robot
+        double blue = 0;
+        for (int i = 3; i < 6; ++i) blue += moved(i);
+        QVERIFY2(blue > 0.05, qPrintable(QString::number(blue)));  // the built-in team's
+        // Its voltages to blue robots are refused: they are not its team's.
+        yellow->send(MessageType::Voltages, protocol::encodeVoltages({{3, Voltages{3.0, 3.0}}}));
+        QVERIFY(!expectError(*yellow, "not_your_robot").isEmpty());
+    }
+
+    void readOnlyObserversCannotRefereeAndServeTakesTheGameOptions() {
+        ServerSettings settings;
+        settings.readOnlyObservers = true;
+        Served served(versusBuiltin(), RunMode::Lockstep, settings);
+        auto observer = join(served.port(), helloJson("observer", "none"));
+        QVERIFY(observer);
+        for (const char* command : {"halt", "game_on"}) {
+            observer->sendJson(MessageType::Control, controlJson(command));
+            QVERIFY(!expectError(*observer, "read_only").isEmpty());
+        }
+        observer->sendJson(MessageType::Control, controlJson("call", {{"call", "penalty_kick"}, {"team", "blue"}}));
+        QVERIFY(!expectError(*observer, "read_only").isEmpty());
+        // vssim serve --blue tcp --referee off: both sides open to clients, no game.
+        QProcess serve;
+        serve.start(VSSIM_BINARY, {"serve", "kickoff_3v3", "--yellow", "tcp", "--blue", "idle", "--referee", "off",
+                                   "--port", "0", "--quit-after", "60"});
+        QVERIFY(serve.waitForStarted(5000) && serve.waitForReadyRead(10000));
+        const quint16 port =
+            static_cast<quint16>(QString::fromUtf8(serve.readLine()).trimmed().section(':', -1).toUInt());
+        QJsonObject welcome;
+        auto yellow = join(port, helloJson("yellow", "none"), &welcome);
+        QVERIFY(yellow);
+        QCOMPARE(welcome["game"].toObject()["referee"].toBool(), false);
+        QCOMPARE(welcome["game"].toObject()["blue"].toString(), QString("idle"));
+        ProtocolClient blue;
+        QVERIFY(blue.connectTo(port));
+        blue.sendJson(MessageType::Hello, helloJson("blue", "none"));
+        QVERIFY(expectError(blue, "role_not_remote")["message"].toString().contains("idle"));
+        serve.terminate();
+        QVERIFY(serve.waitForFinished(5000));
+        QVERIFY(serve.readAllStandardError().contains("referee off, yellow tcp, blue idle"));
+        // Bad values and a referee on a box are usage errors.
+        for (const QStringList& args :
+             {QStringList{"kickoff_3v3", "--yellow", "human"}, QStringList{"kickoff_3v3", "--referee", "yes"},
+              QStringList{"robot_hits_ball", "--referee", "on"}}) {
+            QProcess bad;
+            bad.start(VSSIM_BINARY, QStringList{"serve"} + args + QStringList{"--port", "0"});
+            QVERIFY(bad.waitForFinished(10000));
+            QCOMPARE(bad.exitCode(), 2);
+            const QString err = QString::fromUtf8(bad.readAllStandardError());
+            QVERIFY2(err.contains("--yellow") || err.contains("--referee"), qPrintable(err));
+        }
     }
 
     void connectionsWithoutHelloMakeRoom() {

@@ -1,7 +1,10 @@
 // The desktop app's read-only panels (robot inspector, live plots,
 // connections, camera view, status line), fed hand-made snapshots.
 #include <QApplication>
+#include <QComboBox>
 #include <QLabel>
+#include <QPushButton>
+#include <QSignalSpy>
 #include <QTableWidget>
 #include <QtTest>
 #include <cmath>
@@ -11,6 +14,7 @@
 #include "connections_panel.h"
 #include "live_plots.h"
 #include "robot_inspector.h"
+#include "scoreboard.h"
 #include "status_text.h"
 #include "test_support.h"
 
@@ -112,6 +116,8 @@ private slots:
     void connectionsShowRowsAndRates();
     void cameraViewMatchesTheRenderer();
     void statusLine();
+    void scoreboardShowsTheGame();
+    void scoreboardButtonsAskForCalls();
 };
 
 void TestUiPanels::inspectorShowsValuesWithUnits() {
@@ -349,6 +355,75 @@ void TestUiPanels::statusLine() {
     s.mode = RunMode::Lockstep;
     QVERIFY(statusText(s, std::nan("")).contains("lockstep"));
     QVERIFY(!statusText(s, std::nan("")).contains("real time"));
+}
+
+void TestUiPanels::scoreboardShowsTheGame() {
+    Scoreboard board;
+    GameRules rules;
+    rules.referee = true;
+    GameState game;
+    game.phase = GamePhase::Stop;
+    game.stopLeft = 3.21;
+    game.half = 2;
+    game.clock = 133.9;
+    game.goals = {2, 1};
+    game.last.call = Call::FreeBall;
+    game.last.quadrant = 2;
+    game.last.half = 2;
+    game.last.clock = 72.5;
+    game.last.reason = "ball stuck";
+    board.setGame(game, rules, TeamControl::Builtin, TeamControl::Remote);
+    QCOMPARE(board.scoreText(), QString("Yellow 2 : 1 Blue"));
+    QCOMPARE(board.clockText(), QString("Half 2 of 2 · 02:13 of 05:00"));
+    QCOMPARE(board.phaseText(), QString("STOP (game on in 3.2 s)"));
+    QCOMPARE(board.lastCallText(), QString("Last call: Free ball, quadrant 2: ball stuck (half 2, 01:12)"));
+    QCOMPARE(board.findChild<QComboBox*>("scoreboard.yellowControl")->currentText(), QString("Built-in"));
+    QCOMPARE(board.findChild<QComboBox*>("scoreboard.blueControl")->currentText(), QString("TCP / by hand"));
+    QVERIFY(board.findChild<QPushButton*>("scoreboard.gameOn")->isEnabled());
+    game.phase = GamePhase::Finished;
+    board.setGame(game, rules, TeamControl::Builtin, TeamControl::Remote);
+    QCOMPARE(board.phaseText(), QString("FULL TIME"));
+    QVERIFY(!board.findChild<QPushButton*>("scoreboard.penalty")->isEnabled());
+    // Referee off: no clock, no calls; the team choosers still work.
+    rules.referee = false;
+    board.setGame(GameState{}, rules, TeamControl::Idle, TeamControl::Idle);
+    QVERIFY(board.clockText().contains("Referee off"));
+    QVERIFY(!board.findChild<QPushButton*>("scoreboard.freeBall1")->isEnabled());
+    QVERIFY(!board.findChild<QPushButton*>("scoreboard.halt")->isEnabled());
+    QVERIFY(board.findChild<QComboBox*>("scoreboard.blueControl")->isEnabled());
+    QCOMPARE(gameClockText(299.999), QString("04:59"));
+    QCOMPARE(gameClockText(std::nan("")), QString("00:00"));
+}
+
+void TestUiPanels::scoreboardButtonsAskForCalls() {
+    Scoreboard board;
+    GameRules rules;
+    rules.referee = true;
+    GameState game;
+    game.phase = GamePhase::GameOn;
+    board.setGame(game, rules, TeamControl::Remote, TeamControl::Builtin);
+    QSignalSpy calls(&board, &Scoreboard::callRequested);
+    QSignalSpy halts(&board, &Scoreboard::haltRequested);
+    QSignalSpy controls(&board, &Scoreboard::teamControlRequested);
+    board.findChild<QPushButton*>("scoreboard.freeBall3")->click();
+    QCOMPARE(calls.size(), 1);
+    QCOMPARE(calls.at(0).at(0).value<Call>(), Call::FreeBall);
+    QCOMPARE(calls.at(0).at(2).toInt(), 3);
+    auto* team = board.findChild<QComboBox*>("scoreboard.callTeam");
+    team->setCurrentIndex(team->findData(int(Team::Blue)));
+    board.findChild<QPushButton*>("scoreboard.penalty")->click();
+    QCOMPARE(calls.at(1).at(0).value<Call>(), Call::PenaltyKick);
+    QCOMPARE(calls.at(1).at(1).value<Team>(), Team::Blue);
+    board.findChild<QPushButton*>("scoreboard.halt")->click();
+    QCOMPARE(halts.size(), 1);
+    // Choosing asks; showing a game does not.
+    auto* yellow = board.findChild<QComboBox*>("scoreboard.yellowControl");
+    yellow->setCurrentIndex(yellow->findData(int(TeamControl::Idle)));
+    QCOMPARE(controls.size(), 1);
+    QCOMPARE(controls.at(0).at(0).value<Team>(), Team::Yellow);
+    QCOMPARE(controls.at(0).at(1).value<TeamControl>(), TeamControl::Idle);
+    board.setGame(game, rules, TeamControl::Builtin, TeamControl::Idle);
+    QCOMPARE(controls.size(), 1);
 }
 
 QTEST_MAIN(TestUiPanels)

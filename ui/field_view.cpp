@@ -7,6 +7,7 @@
 #include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "camera/camera_colours.h"
 #include "camera/camera_layout.h"
@@ -48,6 +49,30 @@ QRectF patchRect(const PatchRectangle& patch, double side) {
                   (patch.yMax - patch.yMin) * side);
 }
 
+// Where a body dragged to centre c may go: c itself when it fits, else c
+// clamped to the floor's bounding box and then pushed, a few times, along the
+// inward normal of the wall nearest to it until the body clears that wall
+// (the corner triangles, the goals' side walls and posts). reach(n): how far
+// the body reaches along unit direction n, m. Nullopt when it still does not
+// fit.
+template <typename Reach, typename Fits>
+std::optional<Eigen::Vector2d> placeOnFloor(const Field& field, Eigen::Vector2d c, Reach reach, Fits fits) {
+    if (fits(c)) return c;
+    const double rx = reach(Eigen::Vector2d::UnitX()), ry = reach(Eigen::Vector2d::UnitY());
+    c.x() = std::clamp(c.x(), std::min(field.lower.x() + rx, 0.0), std::max(field.upper.x() - rx, 0.0));
+    c.y() = std::clamp(c.y(), std::min(field.lower.y() + ry, 0.0), std::max(field.upper.y() - ry, 0.0));
+    constexpr double kClearance = 1e-9;  // m beyond touching
+    for (int pass = 0; pass < 6 && !fits(c); ++pass) {
+        const NearestWall nearest = nearestWall(field, c);
+        if (nearest.wall < 0) break;
+        const Wall& w = field.walls[nearest.wall];
+        const double off = reach(w.normal) + kClearance - (c - w.a).dot(w.normal);  // how far too close, m
+        if (off > 0.0) c += off * w.normal;
+    }
+    if (fits(c)) return c;
+    return std::nullopt;
+}
+
 // Index of robot i among the robots of its team (its identity colour).
 int identityIndex(const Scene& scene, int robot) {
     int n = 0;
@@ -64,7 +89,8 @@ FieldView::FieldView(QWidget* parent) : QOpenGLWidget(parent) {
     setToolTip(
         tr("Drag a robot or the ball to move it; mouse wheel over a robot turns it;\n"
            "Shift+drag from a body sets its velocity (0.1 m of arrow = 1 m/s);\n"
-           "wheel elsewhere zooms, right or middle drag pans, double-click resets the view;\n"
+           "wheel elsewhere zooms, right or middle drag pans; double-click puts the ball there\n"
+           "(off the floor: resets the view);\n"
            "W A S D or the arrow keys drive the selected robot, Esc lets it go;\n"
            "Space plays or pauses, Ctrl+Z / Ctrl+Shift+Z undo and redo a move,\n"
            "Ctrl+Right steps 30 ms (paused), Ctrl+R resets, Ctrl+Up / Ctrl+Down change the speed."));
@@ -123,8 +149,13 @@ void FieldView::resetView() {
 }
 
 QTransform FieldView::worldToWidget() const {
-    const double length = snapshot_ && snapshot_->scene ? snapshot_->scene->field.length : 1.5;
-    const double width = snapshot_ && snapshot_->scene ? snapshot_->scene->field.width : 1.3;
+    // The floor's bounding box, goals included (centred on the origin).
+    double length = 1.5, width = 1.3;
+    if (snapshot_ && snapshot_->scene) {
+        const Field& field = snapshot_->scene->field;
+        length = std::max(field.length, field.upper.x() - field.lower.x());
+        width = std::max(field.width, field.upper.y() - field.lower.y());
+    }
     // Fit the field and its margin, keeping the aspect ratio; y up.
     const double scale = zoom_ * std::min(this->width() / (length + 2 * kMargin), height() / (width + 2 * kMargin));
     QTransform t;
@@ -174,16 +205,39 @@ void FieldView::paintGL() {
 }
 
 void FieldView::paintField(QPainter& p) const {
+    // As the camera draws it (field_background.h): the floor inside the chain
+    // of walls, goals included; the markings; the walls along every segment.
     const Field& field = snapshot_->scene->field;
-    const QRectF area(-field.length / 2, -field.width / 2, field.length, field.width);
-    p.fillRect(area, qcolor(kFloorColour));
+    const FieldDimensions& d = field.dimensions;
+    QPolygonF floor;
+    for (const Wall& w : field.walls) floor << QPointF(w.a.x(), w.a.y());
+    p.setPen(Qt::NoPen);
+    p.setBrush(qcolor(kFloorColour));
+    p.drawPolygon(floor);
+    const double hx = field.length / 2, hy = field.width / 2;
     QPen line(qcolor(kMarkingColour), 0.004);
     p.setPen(line);
     p.setBrush(Qt::NoBrush);
-    p.drawLine(QPointF(0, -field.width / 2), QPointF(0, field.width / 2));
-    p.drawEllipse(QPointF(0, 0), kCentreCircleRadius, kCentreCircleRadius);
-    p.setPen(QPen(qcolor(kWallColour), 0.012));
-    for (const Wall& w : field.walls) p.drawLine(QPointF(w.a.x(), w.a.y()), QPointF(w.b.x(), w.b.y()));
+    p.drawLine(QPointF(0, -hy), QPointF(0, hy));
+    if (d.centre_radius > 0.0) p.drawEllipse(QPointF(0, 0), d.centre_radius, d.centre_radius);
+    for (const double side : {-1.0, 1.0}) {
+        if (d.goal_area_depth > 0.0 && d.goal_area_width > 0.0) {
+            const double front = side * (hx - d.goal_area_depth), half = d.goal_area_width / 2;
+            p.drawPolyline(QPolygonF{QPointF(side * hx, -half), QPointF(front, -half), QPointF(front, half),
+                                     QPointF(side * hx, half)});
+        }
+        auto cross = [&](double x, double y) {
+            p.drawLine(QPointF(x - kMarkHalfArm, y), QPointF(x + kMarkHalfArm, y));
+            p.drawLine(QPointF(x, y - kMarkHalfArm), QPointF(x, y + kMarkHalfArm));
+        };
+        if (d.penalty_mark > 0.0) cross(side * (hx - d.penalty_mark), 0.0);
+        if (d.free_ball_x > 0.0)
+            for (const double y : {-d.free_ball_y, d.free_ball_y}) cross(side * (hx - d.free_ball_x), y);
+    }
+    QPen wall(qcolor(kWallColour), 0.012);
+    wall.setJoinStyle(Qt::MiterJoin);
+    p.setPen(wall);
+    p.drawPolygon(floor);  // the closed chain: joined corners, no gaps at the posts
 }
 
 void FieldView::paintBodies(QPainter& p) const {
@@ -304,17 +358,24 @@ bool FieldView::ballAt(const QPointF& f) const {
 RobotState FieldView::clampInside(int robot, RobotState pose) const {
     const Scene& scene = *snapshot_->scene;
     const double side = scene.robots[robot].params.side;
-    const double reach = robotHalfExtent(side, pose.theta);
-    pose.x = std::clamp(pose.x, -scene.field.length / 2 + reach, scene.field.length / 2 - reach);
-    pose.y = std::clamp(pose.y, -scene.field.width / 2 + reach, scene.field.width / 2 - reach);
+    const Eigen::Vector2d u(std::cos(pose.theta), std::sin(pose.theta)), v(-u.y(), u.x());
+    // How far the square reaches along a unit direction n.
+    auto reach = [&](const Eigen::Vector2d& n) { return 0.5 * side * (std::abs(n.dot(u)) + std::abs(n.dot(v))); };
+    auto fits = [&](const Eigen::Vector2d& c) { return robotInsideField(scene.field, side, c.x(), c.y(), pose.theta); };
+    const std::optional<Eigen::Vector2d> c = placeOnFloor(scene.field, {pose.x, pose.y}, reach, fits);
+    if (!c) return snapshot_->robots[robot];  // nowhere near: it stays where it is
+    pose.x = c->x(), pose.y = c->y();
     return pose;
 }
 
 BallState FieldView::clampInside(BallState ball) const {
     const Scene& scene = *snapshot_->scene;
     const double r = scene.ball_params.radius;
-    ball.x = std::clamp(ball.x, -scene.field.length / 2 + r, scene.field.length / 2 - r);
-    ball.y = std::clamp(ball.y, -scene.field.width / 2 + r, scene.field.width / 2 - r);
+    auto fits = [&](const Eigen::Vector2d& c) { return discInsideField(scene.field, r, c.x(), c.y()); };
+    const std::optional<Eigen::Vector2d> c = placeOnFloor(
+        scene.field, {ball.x, ball.y}, [r](const Eigen::Vector2d&) { return r; }, fits);
+    if (!c) return BallState{snapshot_->ball.x, snapshot_->ball.y, ball.vx, ball.vy};
+    ball.x = c->x(), ball.y = c->y();
     return ball;
 }
 
@@ -433,7 +494,18 @@ void FieldView::mouseReleaseEvent(QMouseEvent* event) {
     update();
 }
 
-void FieldView::mouseDoubleClickEvent(QMouseEvent*) { resetView(); }
+void FieldView::mouseDoubleClickEvent(QMouseEvent* event) {
+    // On the floor: the ball goes there, at rest (a referee placing it by
+    // hand). Off the floor: the view is reset.
+    if (!snapshot_ || event->button() != Qt::LeftButton) return;
+    const QPointF f = toField(event->position());
+    if (!onFloor(snapshot_->scene->field, {f.x(), f.y()})) {
+        resetView();
+        return;
+    }
+    emit ballDragStarted(snapshot_->ball);
+    emit ballPlaced(clampInside(BallState{f.x(), f.y(), 0.0, 0.0}), true);
+}
 
 void FieldView::wheelEvent(QWheelEvent* event) {
     if (!snapshot_) return;

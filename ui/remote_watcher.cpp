@@ -2,6 +2,7 @@
 
 #include <QJsonArray>
 
+#include "io/scene_io.h"
 #include "vssim/field.h"
 
 namespace vssim {
@@ -22,14 +23,20 @@ bool RemoteWatcher::connected() const {
 }
 
 std::optional<Scene> sceneFromWelcome(const QJsonObject& welcome, QString* error) {
+    // The field as a scene file has it (a server before field types sends only length and width: a box).
     const QJsonObject field = welcome["field"].toObject();
-    const double length = field["length"].toDouble(), width = field["width"].toDouble();
-    if (!(length > 0 && width > 0)) {
+    if (!field.contains("length") || !field.contains("width")) {
         *error = QStringLiteral("WELCOME: no field size");
         return std::nullopt;
     }
+    QString fieldError;
+    const std::optional<Field> parsed = fieldFromJson(field, &fieldError);
+    if (!parsed) {
+        *error = QStringLiteral("WELCOME: %1").arg(fieldError);
+        return std::nullopt;
+    }
     Scene scene;
-    scene.field = makeRectangularField(length, width);
+    scene.field = *parsed;
     scene.ball_params.radius = welcome["ball"].toObject()["radius"].toDouble(scene.ball_params.radius);
     scene.simulation.dt = welcome["dt"].toDouble(scene.simulation.dt);
     for (const QJsonValue& value : welcome["robots"].toArray()) {

@@ -16,6 +16,8 @@
 #include <QSignalBlocker>
 #include <QTabWidget>
 #include <QVBoxLayout>
+#include <algorithm>
+#include <cstring>
 
 #include "io/scene_io.h"
 #include "vssim/field.h"
@@ -118,17 +120,74 @@ QWidget* SceneParametersDialog::simulationTab() {
 }
 
 QWidget* SceneParametersDialog::fieldTab() {
-    // Each side keeps the other's exact value; the walls are rebuilt around the origin.
-    auto* length = spinBox("field.length", " m", 3, scene_limits::kFieldSize, scene_.field.length,
-                           [this](double v) { scene_.field = makeRectangularField(v, scene_.field.width); });
-    auto* width = spinBox("field.width", " m", 3, scene_limits::kFieldSize, scene_.field.width,
-                          [this](double v) { scene_.field = makeRectangularField(scene_.field.length, v); });
+    // The type sets every dimension to its official value; each box then
+    // changes one dimension, and the walls are rebuilt around the origin.
+    fieldType_ = new QComboBox;
+    fieldType_->setObjectName("field.type");
+    const std::pair<FieldType, QString> types[] = {{FieldType::Box, tr("Box (closed, no goals)")},
+                                                   {FieldType::Vsss3v3, tr("VSSS 3 vs 3 (1.50 × 1.30 m)")},
+                                                   {FieldType::Vsss5v5, tr("VSSS 5 vs 5 (2.20 × 1.80 m)")}};
+    for (const auto& [type, label] : types) fieldType_->addItem(label, static_cast<int>(type));
+    fieldType_->setCurrentIndex(fieldType_->findData(static_cast<int>(scene_.field.dimensions.type)));
+    connect(fieldType_, &QComboBox::currentIndexChanged, this, [this] {
+        setFieldDimensions(officialDimensions(enumOf<FieldType>(fieldType_)));
+        refreshFieldEditor();
+    });
+
+    const std::pair<const char*, const char*> labels[] = {
+        {"length", QT_TR_NOOP("Length (along x, goal line to goal line)")},
+        {"width", QT_TR_NOOP("Width (along y)")},
+        {"goal_width", QT_TR_NOOP("Goal width")},
+        {"goal_depth", QT_TR_NOOP("Goal depth")},
+        {"corner_leg", QT_TR_NOOP("Corner triangles' legs")},
+        {"centre_radius", QT_TR_NOOP("Centre circle radius")},
+        {"goal_area_depth", QT_TR_NOOP("Goal area depth")},
+        {"goal_area_width", QT_TR_NOOP("Goal area width")},
+        {"penalty_mark", QT_TR_NOOP("Penalty mark from the goal line")},
+        {"free_ball_x", QT_TR_NOOP("Free-ball marks from the goal line")},
+        {"free_ball_y", QT_TR_NOOP("Free-ball marks from the long axis")},
+    };
     auto* tab = new QWidget;
     auto* form = new QFormLayout(tab);
-    form->addRow(tr("Length (along x)"), length);
-    form->addRow(tr("Width (along y)"), width);
-    form->addRow(new QLabel(tr("A closed rectangle centred on the origin, with a wall on each side.")));
+    form->addRow(tr("Type"), fieldType_);
+    for (const FieldDimensionKey& k : kFieldDimensionKeys) {
+        double FieldDimensions::*dimension = k.dimension;
+        QDoubleSpinBox* box =
+            spinBox(QStringLiteral("field.%1").arg(QLatin1String(k.key)), " m", 3, k.range,
+                    scene_.field.dimensions.*dimension, [this, dimension](double v) {
+                        FieldDimensions d = scene_.field.dimensions;
+                        d.*dimension = v;
+                        // A box too small for its centre circle has none (as in a scene file).
+                        if (d.type == FieldType::Box && !(d.centre_radius < 0.5 * std::min(d.length, d.width)))
+                            d.centre_radius = boxDimensions(d.length, d.width).centre_radius;
+                        setFieldDimensions(d);
+                    });
+        fieldBindings_.push_back({box, k.dimension, k.box});
+        QString label = tr("Length");
+        for (const auto& [key, text] : labels)
+            if (std::strcmp(key, k.key) == 0) label = tr(text);
+        form->addRow(label, box);
+    }
+    auto* note = new QLabel(
+        tr("The type sets the official dimensions (docs/scenes.md); a box is a closed rectangle without goals, "
+           "corner triangles or goal areas."));
+    note->setWordWrap(true);
+    form->addRow(note);
+    refreshFieldEditor();
     return tab;
+}
+
+void SceneParametersDialog::setFieldDimensions(const FieldDimensions& dimensions) {
+    scene_.field = makeField(dimensions);
+}
+
+void SceneParametersDialog::refreshFieldEditor() {
+    const FieldDimensions& d = scene_.field.dimensions;
+    for (FieldBinding& binding : fieldBindings_) {
+        const QSignalBlocker block(binding.box);  // showing a value is not editing it
+        binding.box->setValue(d.*binding.dimension);
+        binding.box->setEnabled(d.type != FieldType::Box || binding.box_type_takes_it);
+    }
 }
 
 QWidget* SceneParametersDialog::ballTab() {
@@ -181,7 +240,8 @@ QWidget* SceneParametersDialog::robotsTab() {
     body->addRow(tr("Yaw inertia"), inertia);
     body->addRow(tr("Wheel base"),
                  robotSpinBox("robot.wheel_base", " m", 4, scene_limits::kWheelBase, member(&P::wheel_base)));
-    body->addRow(tr("Linear friction"), robotSpinBox("robot.friction_linear", " N s/m", 5, scene_limits::kLinearFriction, member(&P::friction_linear)));
+    body->addRow(tr("Linear friction"), robotSpinBox("robot.friction_linear", " N s/m", 5,
+                                                     scene_limits::kLinearFriction, member(&P::friction_linear)));
     body->addRow(tr("Angular friction"), robotSpinBox("robot.friction_angular", " N m s/rad", 7,
                                                       scene_limits::kAngularFriction, member(&P::friction_angular)));
     body->addRow(tr("Max voltage"),
@@ -200,7 +260,8 @@ QWidget* SceneParametersDialog::robotsTab() {
         {QT_TR_NOOP("Wheel radius"), "wheel_radius", " m", 4, scene_limits::kWheelRadius, &MotorParams::wheel_radius},
         {QT_TR_NOOP("Resistance"), "resistance", " ohm", 3, scene_limits::kResistance, &MotorParams::resistance},
         {QT_TR_NOOP("K (back-EMF = torque)"), "k", " V s/rad", 4, scene_limits::kMotorConstant, &MotorParams::k},
-        {QT_TR_NOOP("Rotor inertia"), "rotor_inertia", " kg m²", 9, scene_limits::kRotorInertia, &MotorParams::rotor_inertia},
+        {QT_TR_NOOP("Rotor inertia"), "rotor_inertia", " kg m²", 9, scene_limits::kRotorInertia,
+         &MotorParams::rotor_inertia},
         {QT_TR_NOOP("Friction"), "friction", " N m s/rad", 7, scene_limits::kMotorFriction, &MotorParams::friction},
     };
     const std::pair<const char*, MotorParams P::*> sides[] = {{"right", &P::right}, {"left", &P::left}};
@@ -307,6 +368,9 @@ void SceneParametersDialog::copyToAllRobots() {
 
 QString SceneParametersDialog::validationError() const {
     const Field& field = scene_.field;
+    const FieldProblem problem = checkFieldDimensions(field.dimensions);
+    if (problem.key)
+        return tr("The field's %1: %2.").arg(QLatin1String(problem.key), QString::fromUtf8(problem.reason));
     const QString fieldSize = tr("the %1 × %2 m field").arg(number(field.length), number(field.width));
     QSet<QString> names;
     for (std::size_t i = 0; i < scene_.robots.size(); ++i) {

@@ -1,5 +1,6 @@
 // Editing a scene's parameters (docs/scenes.md): the simulation settings, the
-// field's size, the ball and every robot's physical parameters. Poses,
+// field (its type, which sets the official dimensions, and each dimension),
+// the ball and every robot's physical parameters. Poses,
 // velocities and commands are not edited here (the app drags robots).
 //
 // The dialog edits a working copy: each widget writes only its own field
@@ -66,10 +67,22 @@ private:
     void refreshRobotListItem(int index);
     RobotSpec* selectedRobot();
     void updateRestitutionEnabled();
+    // The field tab's boxes from the working copy's field (no edits), and
+    // the box type's keys disabled.
+    void refreshFieldEditor();
+    // The working copy's field rebuilt from dimensions (walls, posts, ...).
+    void setFieldDimensions(const FieldDimensions& dimensions);
 
     Scene scene_;  // the working copy
     int selected_ = -1;
 
+    QComboBox* fieldType_ = nullptr;
+    struct FieldBinding {
+        QDoubleSpinBox* box;
+        double FieldDimensions::*dimension;
+        bool box_type_takes_it;  // a box (FieldType::Box) has this dimension
+    };
+    std::vector<FieldBinding> fieldBindings_;
     QComboBox* collisionModel_ = nullptr;
     QDoubleSpinBox* restitution_ = nullptr;
     QListWidget* robotList_ = nullptr;

@@ -5,9 +5,10 @@
     protocol_example.py VSSIM --check FILE     exit 1, with a diff, if FILE's section differs
     protocol_example.py VSSIM --write FILE     replace FILE's section in place
 
-VSSIM is the vssim binary. The script starts `VSSIM serve kickoff_3v3
+VSSIM is the vssim binary. The script starts `VSSIM serve vs_builtin_3v3
 --lockstep --port 0`, performs the session the section describes (HELLO as
-yellow, WELCOME, the background FRAME, a VOLTAGES, a CONTROL step, FRAME 1,
+yellow, WELCOME, the background FRAME, a PLACEMENT and its REPLY, a CONTROL
+game_on, the REFEREE and the REPLY, a VOLTAGES, a CONTROL step, FRAME 1,
 STATE 1, REPLY), stops the server and writes the Markdown section, from the
 line "## A worked example" up to the next "## " heading, with every byte
 count, length field and hex dump taken from the bytes sent and received.
@@ -38,21 +39,23 @@ import tempfile
 import time
 
 HEADING = "## A worked example"
-SCENE = "kickoff_3v3"
+SCENE = "vs_builtin_3v3"
 START_TIMEOUT = 10.0  # s for the server to print "listening on ADDR:PORT"
 ANSWER_TIMEOUT = 5.0  # s for each message the server owes us
 
-HELLO, VOLTAGES, CONTROL = 0x01, 0x02, 0x03
-WELCOME, FRAME, STATE, REPLY, ERROR = 0x81, 0x82, 0x83, 0x84, 0x85
-TYPE_NAMES = {HELLO: "HELLO", VOLTAGES: "VOLTAGES", CONTROL: "CONTROL", WELCOME: "WELCOME", FRAME: "FRAME",
-              STATE: "STATE", REPLY: "REPLY", ERROR: "ERROR"}
+HELLO, VOLTAGES, CONTROL, PLACEMENT = 0x01, 0x02, 0x03, 0x04
+WELCOME, FRAME, STATE, REPLY, ERROR, REFEREE = 0x81, 0x82, 0x83, 0x84, 0x85, 0x86
+TYPE_NAMES = {HELLO: "HELLO", VOLTAGES: "VOLTAGES", CONTROL: "CONTROL", PLACEMENT: "PLACEMENT", WELCOME: "WELCOME",
+              FRAME: "FRAME", STATE: "STATE", REPLY: "REPLY", ERROR: "ERROR", REFEREE: "REFEREE"}
 KIND_NAMES = {0: "patches", 1: "full", 2: "background"}
 ENCODING_NAMES = {0: "raw", 1: "png", 2: "jpeg"}
 
 # What the client sends (the section shows exactly these bytes).
 HELLO_JSON = {"protocol": 1, "role": "yellow", "name": "demo", "state": True}  # images, encoding: defaults
+PLACE = {"id": 1, "robots": [{"robot": 1, "x": -0.4, "y": 0.3, "theta": 0.0}]}
+GAME_ON = {"command": "game_on", "id": 2}
 ROBOT, RIGHT, LEFT = 0, 3.0, -1.5
-STEP = {"command": "step", "duration": 0.03, "id": 1}
+STEP = {"command": "step", "duration": 0.03, "id": 3}
 
 
 class SessionError(Exception):
@@ -163,6 +166,11 @@ def run_session(binary):
                 messages = [("C→S", connection.send(HELLO, json_bytes(HELLO_JSON)))]
                 messages.append(("S→C", connection.receive(WELCOME)))
                 messages.append(("S→C", connection.receive(FRAME)))
+                messages.append(("C→S", connection.send(PLACEMENT, json_bytes(PLACE))))
+                messages.append(("S→C", connection.receive(REPLY)))
+                messages.append(("C→S", connection.send(CONTROL, json_bytes(GAME_ON))))
+                messages.append(("S→C", connection.receive(REFEREE)))
+                messages.append(("S→C", connection.receive(REPLY)))
                 messages.append(("C→S", connection.send(VOLTAGES, struct.pack(">BBdd", 1, ROBOT, RIGHT, LEFT))))
                 messages.append(("C→S", connection.send(CONTROL, json_bytes(STEP))))
                 for kind in (FRAME, STATE, REPLY):
@@ -346,11 +354,12 @@ def frame_rows(dump, message, more_label=""):
 
 
 def section(messages):
-    (_, hello), (_, welcome), (_, background), (_, voltages), (_, control), (_, frame1), (_, state), (_, reply) = \
-        messages
+    (_, hello), (_, welcome), (_, background), (_, placement), (_, placed), (_, game_on), (_, referee), \
+        (_, game_on_reply), (_, voltages), (_, control), (_, frame1), (_, state), (_, reply) = messages
     welcome_json = load_json(welcome[5:])
     state_json = load_json(state[5:])
-    load_json(reply[5:])  # checks it is shown byte for byte
+    for message in (reply, placed, game_on_reply, referee):
+        load_json(message[5:])  # checks it is shown byte for byte
     robots = len(welcome_json["robots"])
     bg_info, _, bg_patches = frame_fields(background)
     f1_info, _, f1_patches = frame_fields(frame1)
@@ -364,11 +373,11 @@ def section(messages):
 
     out.append(f"""{HEADING}
 
-A yellow team client on `vssim serve {SCENE} --lockstep` (bytes in hex;
-`C→S` client to server). Generated from a real session by
-`docs/tools/protocol_example.py`, which rewrites this section
-(`--write docs/protocol.md`); the test `protocol_example_current` fails when
-it is out of date.
+A yellow team client on `vssim serve {SCENE} --lockstep`, a match
+against the built-in blue team (bytes in hex; `C→S` client to server).
+Generated from a real session by `docs/tools/protocol_example.py`, which
+rewrites this section (`--write docs/protocol.md`); the test
+`protocol_example_current` fails when it is out of date.
 
 HELLO, {len(hello) - 5} bytes of JSON (`images` and `encoding` left at their defaults:
 PNG patches):
@@ -385,8 +394,9 @@ WELCOME ({grouped(len(welcome) - 5)} bytes of JSON, abbreviated; `length` {group
 """)
     dump = Dump()
     dump.json_message("S→C", welcome, abbreviated(welcome_json, {
-        "ball": True, "camera": {"centre_u": True, "scale": True}, "client": True, "dt": True, "mode": True,
-        "robots": {"id": True, "index": True}}))
+        "ball": True, "camera": {"centre_u": True, "scale": True}, "client": True, "dt": True,
+        "game": {"blue": True, "referee": True, "state": {"phase": True}, "yellow": True},
+        "mode": True, "robots": {"id": True, "index": True}}))
     out.append(dump.text())
 
     out.append(f"""
@@ -396,6 +406,29 @@ The background, a FRAME of kind {bg_info['kind']}, PNG, one {bg_patch['w']} × {
 """)
     dump = Dump()
     frame_rows(dump, background)
+    out.append(dump.text())
+
+    out.append(f"""
+The game starts stopped for yellow's kick-off, the robots in the referee's
+kick-off places. During STOP the team may place its own robots: a PLACEMENT
+({len(placement) - 5} bytes of JSON) moving robot {PLACE['robots'][0]['robot']}, which the server checks against the
+kick-off's rules and answers with a REPLY:
+
+""")
+    dump = Dump()
+    dump.json_message("C→S", placement, placement[5:].decode())
+    dump.json_message("S→C", placed, placed[5:].decode())
+    out.append(dump.text())
+
+    out.append(f"""
+Rather than wait {prose_number(float(welcome_json['game']['stop_duration']))} s for GAME_ON, the client calls it (CONTROL `game_on`); every
+client gets a REFEREE ({grouped(len(referee) - 5)} bytes of JSON, `length` {grouped(length(referee))}), then this one its REPLY:
+
+""")
+    dump = Dump()
+    dump.json_message("C→S", game_on, game_on[5:].decode())
+    dump.json_message("S→C", referee, referee[5:].decode())
+    dump.json_message("S→C", game_on_reply, game_on_reply[5:].decode())
     out.append(dump.text())
 
     out.append(f"""
@@ -429,8 +462,8 @@ and the REPLY:
     dump = Dump()
     frame_rows(dump, frame1, f", then {in_words(f1_info['count'] - 1)} more patches")
     dump.json_message("S→C", state, abbreviated(state_json, {
-        "ball": True, "frame": True, "robots": {"index": True, "left_voltage": True, "right_voltage": True},
-        "time": True}))
+        "ball": True, "frame": True, "game": {"goals": True, "phase": True},
+        "robots": {"index": True, "left_voltage": True, "right_voltage": True}, "time": True}))
     dump.json_message("S→C", reply, reply[5:].decode())
     out.append(dump.text())
     out.append("\n")

@@ -11,7 +11,7 @@ namespace {
 
 // Points this close to a wall (m) count as on it: far below any body's size,
 // far above the rounding of coordinates of order 1 m.
-constexpr double kOnWall = 1e-12;
+constexpr double kOnWall = 1e-13;
 
 Eigen::Vector2d leftNormal(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const Eigen::Vector2d d = (b - a).normalized();
@@ -107,7 +107,8 @@ Field makeField(const FieldDimensions& dimensions) {
         const V out = corners[(i + 1) % n] - corners[i];
         if (in.x() * out.y() - in.y() * out.x() < 0.0) {
             field.posts.push_back(corners[i]);
-            field.startsAtPost[i] = 1;  // wall i starts at corner i
+            field.startsAtPost[i] = 1;                       // wall i starts at corner i
+            field.postWalls.push_back(static_cast<int>(i));  // wall i runs from corner i
         }
     }
     field.lower = V(-hx - depth, -hy);
@@ -213,21 +214,31 @@ double wallClearance(const Field& field, const Eigen::Vector2d& p) {
     return best;
 }
 
+bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach) {
+    for (const Wall& w : field.walls) {
+        if (p.x() < std::min(w.a.x(), w.b.x()) - reach || p.x() > std::max(w.a.x(), w.b.x()) + reach ||
+            p.y() < std::min(w.a.y(), w.b.y()) - reach || p.y() > std::max(w.a.y(), w.b.y()) + reach)
+            continue;
+        if (closestPointOnSegment(w.a, w.b, p).distance <= reach) return true;
+    }
+    return false;
+}
+
 bool onFloor(const Field& field, const Eigen::Vector2d& p) {
     if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return false;
+    if (clearOfWalls(field, p, 0.0)) return true;  // the open field: most points
     if (p.x() < field.lower.x() - kOnWall || p.x() > field.upper.x() + kOnWall || p.y() < field.lower.y() - kOnWall ||
         p.y() > field.upper.y() + kOnWall)
         return false;
     // Crossing number of a ray towards +x; points on a wall count as inside.
     bool inside = false;
     for (const Wall& w : field.walls) {
-        if (closestPointOnSegment(w.a, w.b, p).distance <= kOnWall) return true;
         if ((w.a.y() > p.y()) != (w.b.y() > p.y())) {
             const double x = w.a.x() + (p.y() - w.a.y()) * (w.b.x() - w.a.x()) / (w.b.y() - w.a.y());
             if (x > p.x()) inside = !inside;
         }
     }
-    return inside;
+    return inside || nearestWall(field, p).distance <= kOnWall;
 }
 
 bool robotInsideField(const Field& field, double side, double x, double y, double theta) {

@@ -14,9 +14,14 @@ CameraGeometry cameraGeometryFor(const Field& field, int width, int height) {
     CameraGeometry camera;
     camera.width = width;
     camera.height = height;
-    camera.scale = std::min((width - 2.0 * kMarginPx) / field.length, (height - 2.0 * kMarginPx) / field.width);
-    camera.centreU = width / 2.0;
-    camera.centreV = height / 2.0;
+    // The floor's bounding box; the length x width rectangle for a field without one.
+    Eigen::Vector2d lower = field.lower, upper = field.upper;
+    if (!(upper.x() > lower.x() && upper.y() > lower.y()))
+        lower = Eigen::Vector2d(-0.5 * field.length, -0.5 * field.width), upper = -lower;
+    const Eigen::Vector2d extent = upper - lower, middle = 0.5 * (lower + upper);
+    camera.scale = std::min((width - 2.0 * kMarginPx) / extent.x(), (height - 2.0 * kMarginPx) / extent.y());
+    camera.centreU = width / 2.0 - camera.scale * middle.x();
+    camera.centreV = height / 2.0 + camera.scale * middle.y();
     return camera;
 }
 

@@ -22,8 +22,11 @@ struct CameraGeometry {
     double centreV = 0.0;  // v of the field origin, px
 };
 
-// The field centred in a width x height image with at least 20 px of margin
-// on every side: scale = min((width - 40) / length, (height - 40) / width).
+// The field, goals included (its bounding box field.lower..field.upper),
+// centred in a width x height image with at least 20 px of margin on every
+// side: scale = min((width - 40) / (upper.x - lower.x), (height - 40) /
+// (upper.y - lower.y)), that is (width - 40) / (length + 2 goal_depth) and
+// (height - 40) / width for the fields makeField builds.
 CameraGeometry cameraGeometryFor(const Field& field, int width = 640, int height = 480);
 
 // Field point (m) -> continuous pixel coordinates (px), and back.

@@ -8,8 +8,12 @@ namespace vssim {
 // anti-aliased, a wall shows as 4 to 5 px of kWallColour plus blended edges
 // (docs/protocol.md, Camera).
 constexpr int kWallThicknessPx = 3;  // px, cv::line thickness
-constexpr int kMarkingThicknessPx = 1;        // centre line and centre circle, px
-constexpr double kCentreCircleRadius = 0.20;  // m
+// The white markings (centre line and circle, goal areas, the marks' crosses):
+// 1 px, about 3 mm of a 1.50 x 1.30 m field at 338 px/m, as the rules' lines.
+constexpr int kMarkingThicknessPx = 1;  // px, cv::line thickness
+// A penalty or free-ball mark: a cross of two lines along x and y, each
+// reaching this far either side of the mark.
+constexpr double kMarkHalfArm = 0.01;  // m
 
 // A robot seen from above: a black square of side s, rotated by theta, with
 // two rectangular patches. In the robot frame (x forward along the heading,

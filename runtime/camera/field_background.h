@@ -9,11 +9,15 @@
 namespace vssim {
 
 // A camera.height x camera.width CV_8UC3 BGR image: the outside colour, the
-// floor inside the walls, the centre line (x = 0, wall to wall) and the
-// centre circle, then the walls on top (colours in camera_colours.h, sizes
-// in camera_layout.h). "Inside the walls" is the polygon that the walls make
-// when each one ends where the next begins (makeRectangularField's do);
-// for any other set of walls it is the length x width rectangle.
+// floor inside the walls (the goals included, the corner triangles left
+// out), the white markings (the centre line, wall to wall; the centre circle
+// of the field's centre_radius; each goal area's three lines; a cross at each
+// penalty and free-ball mark; each only where the field's dimensions have
+// it), then the walls on top, along every segment (colours in
+// camera_colours.h, sizes in camera_layout.h). "Inside the walls" is the
+// polygon that the walls make when each one ends where the next begins
+// (makeField's chain); for any other set of walls it is the length x width
+// rectangle.
 cv::Mat renderFieldBackground(const Field& field, const CameraGeometry& camera);
 
 }  // namespace vssim

@@ -9,7 +9,9 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QStringList>
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "io/printable_text.h"
@@ -29,6 +31,10 @@ const std::pair<const char*, Integrator> kIntegrators[] = {
 const std::pair<const char*, CollisionModel> kCollisionModels[] = {{"paper", CollisionModel::Paper},
                                                                    {"impulse", CollisionModel::Impulse}};
 const std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
+const std::pair<const char*, TeamControl> kTeamControls[] = {
+    {"builtin", TeamControl::Builtin}, {"remote", TeamControl::Remote}, {"idle", TeamControl::Idle}};
+const std::pair<const char*, FieldType> kFieldTypes[] = {
+    {"box", FieldType::Box}, {"vsss_3v3", FieldType::Vsss3v3}, {"vsss_5v5", FieldType::Vsss5v5}};
 
 template <typename T, std::size_t N>
 QString nameOf(const std::pair<const char*, T> (&table)[N], T value) {
@@ -89,6 +95,7 @@ private:
     bool ball(const QJsonObject& root, Scene& scene);
     bool robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene);
     bool commands(const QJsonObject& root, Scene& scene);
+    bool game(const QJsonObject& root, Scene& scene);
     bool insideField(const Scene& scene);
     bool bodiesFit(const Scene& scene);
 
@@ -154,11 +161,35 @@ bool SceneReader::choice(const QJsonObject& o, const QString& path, const char* 
 bool SceneReader::field(const QJsonObject& root, Scene& scene) {
     if (!root.contains("field")) return true;
     QJsonObject o;
-    double length = scene.field.length, width = scene.field.width;
-    if (!object(root.value("field"), "field", &o) || !keys(o, "field", {"length", "width"}) ||
-        !number(o, "field", "length", kFieldSize, &length) || !number(o, "field", "width", kFieldSize, &width))
+    const QString path = "field";
+    if (!object(root.value(path), path, &o) ||
+        !keys(o, path,
+              {"type", "length", "width", "goal_width", "goal_depth", "corner_leg", "centre_radius", "goal_area_depth",
+               "goal_area_width", "penalty_mark", "free_ball_x", "free_ball_y"}))
         return false;
-    scene.field = makeRectangularField(length, width);
+    // The type gives every dimension its default; the keys override them one by one.
+    FieldType type = FieldType::Box;
+    if (!choice(o, path, "type", kFieldTypes, &type)) return false;
+    FieldDimensions d = officialDimensions(type);
+    const bool centreGiven = o.contains(QLatin1String("centre_radius"));
+    for (const FieldDimensionKey& k : kFieldDimensionKeys) {
+        if (type == FieldType::Box && !k.box && o.contains(QLatin1String(k.key)))
+            return fail(join(path, k.key),
+                        QStringLiteral("a box has no goals, corner triangles or goal areas (give field.type "
+                                       "\"vsss_3v3\" or \"vsss_5v5\" for a field with goals)"));
+        if (!number(o, path, k.key, k.range, &(d.*k.dimension))) return false;
+    }
+    // A box too small for the default centre circle has none (as boxDimensions).
+    if (type == FieldType::Box && !centreGiven) d = boxDimensions(d.length, d.width);
+    const FieldProblem problem = checkFieldDimensions(d);
+    if (problem.key) {
+        double value = 0.0;
+        for (const FieldDimensionKey& k : kFieldDimensionKeys)
+            if (std::strcmp(k.key, problem.key) == 0) value = d.*k.dimension;
+        return fail(join(path, problem.key),
+                    QStringLiteral("%1 (got %2 m)").arg(QString::fromUtf8(problem.reason)).arg(value));
+    }
+    scene.field = makeField(d);
     return true;
 }
 
@@ -300,37 +331,88 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
     return true;
 }
 
+bool SceneReader::game(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("game")) return true;
+    QJsonObject o;
+    GameSettings& g = scene.game;
+    GameRules& r = g.rules;
+    const QString path = "game";
+    double halves = r.halves;
+    if (!object(root.value(path), path, &o) ||
+        !keys(o, path,
+              {"referee", "halves", "half_duration", "stop_duration", "stuck_ball_speed", "stuck_ball_time",
+               "crowded_area_time", "free_ball_distance", "tick", "yellow", "blue"}) ||
+        !number(o, path, "halves", {1.0, static_cast<double>(kMaxHalves), false, ""}, &halves) ||
+        !number(o, path, "half_duration", kHalfDuration, &r.half_duration) ||
+        !number(o, path, "stop_duration", kStopDuration, &r.stop_duration) ||
+        !number(o, path, "stuck_ball_speed", kStuckBallSpeed, &r.stuck_ball_speed) ||
+        !number(o, path, "stuck_ball_time", kRuleTime, &r.stuck_ball_time) ||
+        !number(o, path, "crowded_area_time", kRuleTime, &r.crowded_area_time) ||
+        !number(o, path, "free_ball_distance", kFreeBallDistance, &r.free_ball_distance) ||
+        !number(o, path, "tick", kGameTick, &r.tick) || !choice(o, path, "yellow", kTeamControls, &g.yellow) ||
+        !choice(o, path, "blue", kTeamControls, &g.blue))
+        return false;
+    if (halves != std::floor(halves))
+        return fail(join(path, "halves"), QStringLiteral("must be a whole number (got %1)").arg(halves));
+    r.halves = static_cast<int>(halves);
+    if (o.contains("referee")) {
+        if (!o.value("referee").isBool()) return fail(join(path, "referee"), QStringLiteral("expected true or false"));
+        r.referee = o.value("referee").toBool();
+    }
+    // The tick matters only when something acts at it: the referee or a built-in team.
+    const bool ticking = r.referee || g.yellow == TeamControl::Builtin || g.blue == TeamControl::Builtin;
+    const QString tickProblem = ticking ? gameTickProblem(r.tick, scene.simulation.dt) : QString();
+    if (!tickProblem.isEmpty()) return fail(join(path, "tick"), tickProblem);
+    if (r.referee && !fieldHasGoals(scene.field)) return fail(join(path, "referee"), refereeFieldProblem());
+    return true;
+}
+
 bool SceneReader::insideField(const Scene& scene) {
-    const double hx = scene.field.length / 2, hy = scene.field.width / 2;
-    // half: the body's half-extent along x and along y, m.
-    auto check = [&](const QString& path, double x, double y, double half, const QString& note) {
+    const Field& field = scene.field;
+    const double hx = field.length / 2, hy = field.width / 2;
+    // A box without goals or corner triangles: a body is inside when its
+    // centre is within |x| and |y| bounds, which the messages can name.
+    const bool plainBox = field.walls.size() == 4;
+    // half: the body's half-extent along x and along y, m; inside: whether it
+    // lies on the floor clear of every wall and post (robotInsideField,
+    // discInsideField).
+    auto check = [&](const QString& path, double x, double y, double half, const QString& note, bool inside) {
         if (half > hx || half > hy) {
             const QString body =
                 path == QLatin1String("ball") ? QStringLiteral("the ball") : QStringLiteral("the robot");
             return fail(path, QStringLiteral("the field (%1 m x %2 m) is smaller than %3, which is %4 m across%5")
-                                  .arg(scene.field.length, 0, 'g', 10)
-                                  .arg(scene.field.width, 0, 'g', 10)
+                                  .arg(field.length, 0, 'g', 10)
+                                  .arg(field.width, 0, 'g', 10)
                                   .arg(body)
                                   .arg(2 * half, 0, 'g', 10)
                                   .arg(note));
         }
-        const QString what = QStringLiteral("%1 m is outside the field (|%2| must be <= %3 m%4)");
-        if (std::abs(x) > hx - half)
-            return fail(join(path, "x"), what.arg(x, 0, 'g', 10).arg('x').arg(hx - half, 0, 'g', 10).arg(note));
-        if (std::abs(y) > hy - half)
-            return fail(join(path, "y"), what.arg(y, 0, 'g', 10).arg('y').arg(hy - half, 0, 'g', 10).arg(note));
-        return true;
+        if (inside) return true;
+        if (plainBox) {
+            const QString what = QStringLiteral("%1 m is outside the field (|%2| must be <= %3 m%4)");
+            if (std::abs(x) > hx - half)
+                return fail(join(path, "x"), what.arg(x, 0, 'g', 10).arg('x').arg(hx - half, 0, 'g', 10).arg(note));
+            if (std::abs(y) > hy - half)
+                return fail(join(path, "y"), what.arg(y, 0, 'g', 10).arg('y').arg(hy - half, 0, 'g', 10).arg(note));
+        }
+        return fail(path, QStringLiteral("at (%1, %2) m%3 it is not wholly on the field's floor: it crosses a wall, a "
+                                         "corner triangle or a goal post")
+                              .arg(x, 0, 'g', 10)
+                              .arg(y, 0, 'g', 10)
+                              .arg(note));
     };
-    if (!check("ball", scene.ball.x, scene.ball.y, scene.ball_params.radius, {})) return false;
+    const double r = scene.ball_params.radius;
+    if (!check("ball", scene.ball.x, scene.ball.y, r, {}, discInsideField(field, r, scene.ball.x, scene.ball.y)))
+        return false;
     for (std::size_t i = 0; i < scene.robots.size(); ++i) {
         const RobotSpec& robot = scene.robots[i];
+        const RobotState& s = robot.initial;
         // A square of side s at heading theta reaches (s/2)(|cos| + |sin|) along x and y.
-        const double turn = std::abs(std::cos(robot.initial.theta)) + std::abs(std::sin(robot.initial.theta));
-        const QString note = std::abs(turn - 1.0) > 1e-9
-                                 ? QStringLiteral(" at heading %1 rad").arg(robot.initial.theta, 0, 'g', 6)
-                                 : QString();
-        if (!check(QStringLiteral("robots[%1]").arg(i), robot.initial.x, robot.initial.y,
-                   0.5 * robot.params.side * turn, note))
+        const double turn = std::abs(std::cos(s.theta)) + std::abs(std::sin(s.theta));
+        const QString note =
+            std::abs(turn - 1.0) > 1e-9 ? QStringLiteral(" at heading %1 rad").arg(s.theta, 0, 'g', 6) : QString();
+        if (!check(QStringLiteral("robots[%1]").arg(i), s.x, s.y, 0.5 * robot.params.side * turn, note,
+                   robotInsideField(field, robot.params.side, s.x, s.y, s.theta)))
             return false;
     }
     return true;
@@ -340,7 +422,7 @@ bool SceneReader::bodiesFit(const Scene& scene) {
     const double kPi = 3.14159265358979323846;
     double covered = kPi * scene.ball_params.radius * scene.ball_params.radius;  // m²
     for (const RobotSpec& robot : scene.robots) covered += robot.params.side * robot.params.side;
-    const double area = scene.field.length * scene.field.width;  // m²
+    const double area = floorArea(scene.field);  // m²
     if (covered <= kMaxCoveredFraction * area) return true;
     return fail(scene.robots.empty() ? QStringLiteral("ball") : QStringLiteral("robots"),
                 QStringLiteral("the ball and %1 robot%2 cover %3 m², more than %4% of the field's %5 m²: they cannot "
@@ -354,7 +436,7 @@ bool SceneReader::bodiesFit(const Scene& scene) {
 
 std::optional<Scene> SceneReader::read(const QJsonObject& root) {
     Scene scene;
-    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands"}))
+    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands", "game"}))
         return std::nullopt;
     double version = 1.0;
     if (!number(root, "", "version", kAny, &version)) return std::nullopt;
@@ -371,8 +453,8 @@ std::optional<Scene> SceneReader::read(const QJsonObject& root) {
             return std::nullopt;
     }
     if (!field(root, scene) || !simulation(root, scene) || !ball(root, scene) ||
-        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !insideField(scene) ||
-        !bodiesFit(scene))
+        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !game(root, scene) ||
+        !insideField(scene) || !bodiesFit(scene))
         return std::nullopt;
     return scene;
 }
@@ -416,6 +498,71 @@ std::optional<Integrator> integratorFromName(const QString& name) { return value
 QString collisionModelName(CollisionModel model) { return nameOf(kCollisionModels, model); }
 std::optional<CollisionModel> collisionModelFromName(const QString& name) { return valueOf(kCollisionModels, name); }
 QString teamName(Team team) { return nameOf(kTeams, team); }
+QString teamControlName(TeamControl control) { return nameOf(kTeamControls, control); }
+std::optional<TeamControl> teamControlFromName(const QString& name) { return valueOf(kTeamControls, name); }
+
+bool fieldHasGoals(const Field& field) { return field.dimensions.type != FieldType::Box; }
+
+QString refereeFieldProblem() {
+    return QStringLiteral("a referee needs a field with goals (field.type \"vsss_3v3\" or \"vsss_5v5\"), not a box");
+}
+
+QString gameTickProblem(double tick, double dt) {
+    const double steps = tick / dt;
+    if (tick < dt * (1.0 - 1e-9))
+        return QStringLiteral("must be at least one step of simulation.dt (%1 s; got %2 s)").arg(dt).arg(tick);
+    if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
+        return QStringLiteral("must be a whole number of steps of simulation.dt (%1 s; got %2 s, %3 steps)")
+            .arg(dt)
+            .arg(tick)
+            .arg(steps, 0, 'g', 10);
+    return {};
+}
+
+QJsonObject gameRulesToJson(const GameRules& r) {
+    return {{"referee", r.referee},
+            {"halves", r.halves},
+            {"half_duration", r.half_duration},
+            {"stop_duration", r.stop_duration},
+            {"stuck_ball_speed", r.stuck_ball_speed},
+            {"stuck_ball_time", r.stuck_ball_time},
+            {"crowded_area_time", r.crowded_area_time},
+            {"free_ball_distance", r.free_ball_distance},
+            {"tick", r.tick}};
+}
+QString fieldTypeName(FieldType type) { return nameOf(kFieldTypes, type); }
+std::optional<FieldType> fieldTypeFromName(const QString& name) { return valueOf(kFieldTypes, name); }
+
+const FieldDimensionKey kFieldDimensionKeys[11] = {
+    {"length", &FieldDimensions::length, kFieldSize, true},
+    {"width", &FieldDimensions::width, kFieldSize, true},
+    {"goal_width", &FieldDimensions::goal_width, kFieldFeature, false},
+    {"goal_depth", &FieldDimensions::goal_depth, kFieldFeature, false},
+    {"corner_leg", &FieldDimensions::corner_leg, kFieldFeature, false},
+    {"centre_radius", &FieldDimensions::centre_radius, kFieldFeature, true},
+    {"goal_area_depth", &FieldDimensions::goal_area_depth, kFieldFeature, false},
+    {"goal_area_width", &FieldDimensions::goal_area_width, kFieldFeature, false},
+    {"penalty_mark", &FieldDimensions::penalty_mark, kFieldFeature, false},
+    {"free_ball_x", &FieldDimensions::free_ball_x, kFieldFeature, false},
+    {"free_ball_y", &FieldDimensions::free_ball_y, kFieldFeature, false},
+};
+
+FieldDimensions boxDimensions(double length, double width) {
+    FieldDimensions d = officialDimensions(FieldType::Box);
+    d.length = length;
+    d.width = width;
+    if (!(d.centre_radius < 0.5 * std::min(length, width))) d.centre_radius = 0.0;
+    return d;
+}
+
+double floorArea(const Field& field) {
+    // The shoelace formula over the closed counter-clockwise chain of walls;
+    // the box's rectangle is length x width exactly.
+    if (field.walls.size() == 4) return field.length * field.width;
+    double twice = 0.0;
+    for (const Wall& w : field.walls) twice += w.a.x() * w.b.y() - w.b.x() * w.a.y();
+    return 0.5 * twice;
+}
 
 std::optional<Scene> parseScene(const QByteArray& json, QString* error) {
     QJsonParseError parseError;
@@ -450,10 +597,29 @@ std::optional<Scene> loadSceneFile(const QString& path, QString* error) {
     return scene;
 }
 
+QJsonObject fieldToJson(const Field& field) {
+    // The type and every dimension it takes, so that reading it back gives the same field.
+    const FieldDimensions& d = field.dimensions;
+    QJsonObject o{{"type", fieldTypeName(d.type)}};
+    for (const FieldDimensionKey& k : kFieldDimensionKeys)
+        if (d.type != FieldType::Box || k.box) o[k.key] = d.*k.dimension;
+    // A box made in code with a centre circle it cannot hold (makeRectangularField
+    // of a small box): left out, so the file is read as a box without one.
+    if (d.type == FieldType::Box && !(d.centre_radius < 0.5 * std::min(d.length, d.width))) o.remove("centre_radius");
+    return o;
+}
+
+std::optional<Field> fieldFromJson(const QJsonObject& field, QString* error) {
+    QJsonObject root{{"field", field}};
+    const std::optional<Scene> scene = parseScene(QJsonDocument(root).toJson(QJsonDocument::Compact), error);
+    if (!scene) return std::nullopt;
+    return scene->field;
+}
+
 QByteArray sceneToJson(const Scene& scene) {
     QJsonObject root;
     root["version"] = 1;
-    root["field"] = QJsonObject{{"length", scene.field.length}, {"width", scene.field.width}};
+    root["field"] = fieldToJson(scene.field);
     const SimulationSettings& s = scene.simulation;
     root["simulation"] = QJsonObject{{"integrator", integratorName(s.integrator)},
                                      {"dt", s.dt},
@@ -484,6 +650,10 @@ QByteArray sceneToJson(const Scene& scene) {
                                     {"right", c.voltages.right},
                                     {"left", c.voltages.left}});
     root["commands"] = commands;
+    QJsonObject game = gameRulesToJson(scene.game.rules);
+    game["yellow"] = teamControlName(scene.game.yellow);
+    game["blue"] = teamControlName(scene.game.blue);
+    root["game"] = game;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <QByteArray>
+#include <QJsonObject>
 #include <QString>
 #include <QStringList>
 #include <optional>
@@ -24,12 +25,41 @@ std::optional<Scene> loadSceneFile(const QString& path, QString* error);
 // reproduces s exactly.
 QByteArray sceneToJson(const Scene& scene);
 
+// A field as a scene file's `field` object (its type and every dimension it
+// takes), as sceneToJson writes it and WELCOME carries it; and back, with the
+// scene reader's checks and messages (a `field` without `type` is a box).
+QJsonObject fieldToJson(const Field& field);
+std::optional<Field> fieldFromJson(const QJsonObject& field, QString* error);
+
 // The names used in scene files and on the command line.
 QString integratorName(Integrator integrator);
 std::optional<Integrator> integratorFromName(const QString& name);
 QString collisionModelName(CollisionModel model);
 std::optional<CollisionModel> collisionModelFromName(const QString& name);
 QString teamName(Team team);
+QString teamControlName(TeamControl control);  // "builtin", "remote", "idle"
+std::optional<TeamControl> teamControlFromName(const QString& name);
+QString fieldTypeName(FieldType type);
+std::optional<FieldType> fieldTypeFromName(const QString& name);
+
+// The keys of a scene file's `field` object besides `type`, in the order they
+// are written, with the dimension each one sets (docs/scenes.md, `field`).
+struct FieldDimensionKey {
+    const char* key;                     // "goal_width", ...
+    double FieldDimensions::*dimension;  // &FieldDimensions::goal_width, ...
+    AllowedRange range;                  // what the reader accepts on its own (scene_limits.h)
+    bool box;                            // whether a box (no goals, no corners) takes it
+};
+extern const FieldDimensionKey kFieldDimensionKeys[11];
+
+// The box a scene file with neither `field.type` nor `field.centre_radius`
+// describes: length x width, the centre circle 0.20 m when it fits in the
+// box (its radius under half the shorter side), none otherwise.
+FieldDimensions boxDimensions(double length, double width);
+
+// A field's floor area inside its walls (the goals included, the corner
+// triangles left out), m².
+double floorArea(const Field& field);
 
 // Resolves a scene argument: an existing file, or the name of a built-in
 // example scene ("kickoff_3v3" or "kickoff_3v3.json", compiled in as a Qt
@@ -41,6 +71,17 @@ QString resolveScenePath(const QString& argument);
 // from a regular file), anything else is "no such file or built-in scene"
 // with the built-in names.
 QString sceneNotFoundMessage(const QString& argument);
+
+// The game section's checks, shared with the command line (vssim serve
+// --referee): whether a field has goals (a referee needs them), and why a
+// game tick does not suit a step dt (it must be a whole number of steps,
+// at least one), or an empty string.
+bool fieldHasGoals(const Field& field);
+QString refereeFieldProblem();
+QString gameTickProblem(double tick, double dt);
+// The game rules as a scene file's `game` object writes them (without the
+// teams' controls), as WELCOME carries them.
+QJsonObject gameRulesToJson(const GameRules& rules);
 
 // Names of the built-in example scenes, sorted.
 QStringList builtinSceneNames();

@@ -36,8 +36,12 @@ constexpr AllowedRange kAny{-kInfinity, kInfinity, false, ""};
 constexpr AllowedRange kUnitInterval{0.0, 1.0, false, ""};
 constexpr AllowedRange kTimeStep{kMinSceneTimeStep, kMaxSceneTimeStep, false, "s"};
 
-// Field (default 1.50 x 1.30 m).
+// Field (default 1.50 x 1.30 m): its length and width, and every other
+// dimension (goals, corners, centre circle, goal areas, marks; 0 where a
+// field has none). Whether they make a field together is checked by
+// checkFieldDimensions (vssim/field.h).
 constexpr AllowedRange kFieldSize{0.001, 100.0, false, "m"};
+constexpr AllowedRange kFieldFeature{0.0, 100.0, false, "m"};
 
 // Robot (defaults: 7.5 cm, 180 g, 1.7e-4 kg m², wheels 6.5 cm apart).
 constexpr AllowedRange kRobotSide{1e-4, 10.0, false, "m"};
@@ -79,6 +83,17 @@ constexpr double kMaxCoveredFraction = 0.5;
 
 // Command times, s (about 32 years): beyond it step indices lose meaning.
 constexpr AllowedRange kCommandTime{0.0, 1e9, false, "s"};
+
+// The game (docs/scenes.md, `game`; defaults: 2 halves of 300 s, STOP 4 s,
+// a ball stuck below 0.10 m/s for 5 s, 3 s crowding, 0.20 m at a free ball,
+// a tick of 10 ms). A tick must also be a whole number of steps of dt.
+constexpr int kMaxHalves = 10;
+constexpr AllowedRange kHalfDuration{0.0, 86400.0, true, "s"};
+constexpr AllowedRange kStopDuration{0.0, 600.0, false, "s"};
+constexpr AllowedRange kStuckBallSpeed{0.0, 10.0, false, "m/s"};
+constexpr AllowedRange kRuleTime{0.0, 3600.0, true, "s"};
+constexpr AllowedRange kFreeBallDistance{0.0, 1.0, true, "m"};
+constexpr AllowedRange kGameTick{0.0, 1.0, true, "s"};
 
 }  // namespace scene_limits
 

@@ -121,6 +121,12 @@ private:
     RequestError error_;
 };
 
+constexpr std::pair<const char*, Call> kCalls[] = {{"kickoff", Call::KickOff},
+                                                   {"free_ball", Call::FreeBall},
+                                                   {"penalty_kick", Call::PenaltyKick},
+                                                   {"goal_kick", Call::GoalKick}};
+constexpr std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
+
 constexpr std::pair<const char*, ClientRole> kRoles[] = {
     {"yellow", ClientRole::Yellow}, {"blue", ClientRole::Blue}, {"observer", ClientRole::Observer}};
 enum class ImagesWanted { Patches, Full, None };
@@ -225,6 +231,30 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
                  : r.command == "resume" ? Kind::Resume
                  : r.command == "reset"  ? Kind::Reset
                                          : Kind::Stats;
+    } else if (r.command == "halt" || r.command == "game_on") {
+        if (!in.keys(base)) return failed();
+        r.kind = r.command == "halt" ? Kind::HaltGame : Kind::ResumeGame;
+    } else if (r.command == "call") {
+        r.kind = Kind::CallFoul;
+        if (!in.keys(base + QStringList{"call", "team", "quadrant"}) || !in.choice("call", kCalls, {}, &r.call))
+            return failed();
+        if (r.call == Call::FreeBall) {
+            if (json.contains("team")) {
+                in.malformed("a free ball is for no team: no \"team\"");
+                return failed();
+            }
+            if (!json.contains("quadrant")) {
+                in.malformed("a free ball needs \"quadrant\" (1 to 4)");
+                return failed();
+            }
+            if (!in.integer("quadrant", 1, 4, 1, &r.quadrant)) return failed();
+        } else {
+            if (json.contains("quadrant")) {
+                in.malformed(QStringLiteral("only a free ball has a \"quadrant\", not a %1").arg(callName(r.call)));
+                return failed();
+            }
+            if (!in.choice("team", kTeams, {}, &r.team)) return failed();
+        }
     } else if (r.command == "step") {
         r.kind = Kind::Step;
         if (!in.keys(base + QStringList{"duration"}) || !in.number("duration", &r.duration)) return failed();
@@ -301,9 +331,82 @@ std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& 
         }
     } else {
         *error = {"unknown_command", QStringLiteral("CONTROL: unknown command \"%1\" (expected pause, resume, step, "
-                                                    "reset, place_robot, place_ball, speed or stats)")
+                                                    "reset, place_robot, place_ball, speed, stats, halt, game_on or "
+                                                    "call)")
                                          .arg(printableText(r.command, 40))};
         return std::nullopt;
+    }
+    return r;
+}
+
+std::optional<EngineRequest> parsePlacement(const QJsonObject& json, const Scene& scene, ClientRole role,
+                                            RequestError* error) {
+    RequestReader in(json, QStringLiteral("PLACEMENT"));
+    auto failed = [&] {
+        *error = in.error();
+        return std::nullopt;
+    };
+    if (role == ClientRole::Observer) {
+        in.fail("not_your_robot", "an observer places no robots (say HELLO as \"yellow\" or \"blue\")");
+        return failed();
+    }
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::Placement;
+    r.command = QStringLiteral("placement");
+    r.team = role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
+    if (!in.keys({"robots", "id"})) return failed();
+    const QJsonValue list = json.value("robots");
+    if (!list.isArray() || list.toArray().isEmpty()) {
+        in.malformed("\"robots\" must be a non-empty array of {\"robot\", \"x\", \"y\", \"theta\"}");
+        return failed();
+    }
+    const QJsonArray robots = list.toArray();
+    if (robots.size() > static_cast<qsizetype>(scene.robots.size())) {
+        in.malformed(QStringLiteral("%1 entries in \"robots\"; the scene has %2 robots")
+                         .arg(robots.size())
+                         .arg(scene.robots.size()));
+        return failed();
+    }
+    for (qsizetype i = 0; i < robots.size(); ++i) {
+        const QString where = QStringLiteral("PLACEMENT robots[%1]").arg(i);
+        if (!robots[i].isObject()) {
+            *error = {"malformed", where + ": expected an object {\"robot\", \"x\", \"y\", \"theta\"}"};
+            return std::nullopt;
+        }
+        const QJsonObject entry = robots[i].toObject();
+        RequestReader e(entry, where);
+        int robot = -1;
+        RobotState p;
+        if (!e.keys({"robot", "x", "y", "theta"}) || !e.robotIndex(scene, &robot) || !e.number("x", &p.x) ||
+            !e.number("y", &p.y) || !e.number("theta", &p.theta)) {
+            *error = e.error();
+            return std::nullopt;
+        }
+        const RobotSpec& spec = scene.robots[robot];
+        if (spec.team != r.team) {
+            *error = {"not_your_robot", QStringLiteral("%1: robot %2 (%3) belongs to the other team")
+                                            .arg(where)
+                                            .arg(robot)
+                                            .arg(QString::fromStdString(spec.name))};
+            return std::nullopt;
+        }
+        for (const auto& [placed, pose] : r.poses) {
+            if (placed == robot) {
+                *error = {"malformed", QStringLiteral("%1: robot %2 is placed twice").arg(where).arg(robot)};
+                return std::nullopt;
+            }
+        }
+        if (!robotInsideField(scene.field, spec.params.side, p.x, p.y, p.theta)) {
+            *error = {"outside_field",
+                      QStringLiteral("%1: robot %2 at (%3, %4) m, heading %5 rad, would not lie inside the field")
+                          .arg(where)
+                          .arg(robot)
+                          .arg(p.x)
+                          .arg(p.y)
+                          .arg(p.theta)};
+            return std::nullopt;
+        }
+        r.poses.emplace_back(robot, p);
     }
     return r;
 }

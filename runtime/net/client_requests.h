@@ -43,6 +43,14 @@ std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Volta
 // the caller's to fill in).
 std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& scene, RequestError* error);
 
+// A PLACEMENT message (docs/protocol.md): a team's own poses for its robots
+// during STOP, as an engine request (Kind::Placement). Checked here: the
+// layout, robots that exist and belong to the client's team, each once,
+// finite numbers, inside the field; the engine checks the rest (the phase,
+// the rules of the call: Match::placeTeam).
+std::optional<EngineRequest> parsePlacement(const QJsonObject& json, const Scene& scene, ClientRole role,
+                                            RequestError* error);
+
 // Whether a CONTROL request leaves the game as it is (only `stats`): what a
 // read-only observer may send.
 bool leavesTheGameAlone(const EngineRequest& request);

@@ -7,6 +7,7 @@
 
 #include "io/scene_io.h"
 #include "realtime/monotonic_clock.h"
+#include "wire/game_message.h"
 
 namespace vssim {
 
@@ -100,6 +101,7 @@ void ControlServer::setScene(const Scene& scene) {
     for (auto& [id, client] : clients_)
         sendError(*client, {"scene_changed", "the server loaded another scene: connect again"}, true);
     scene_ = scene;
+    lastReferee_ = {};
     background_ = CameraRenderer(scene);
 }
 
@@ -323,6 +325,26 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             sendError(client, {"malformed", "HELLO again: a client says HELLO once"}, false);
             return;
         case MessageType::Voltages: return handleVoltages(client, message);
+        case MessageType::Placement: {
+            QString jsonError;
+            const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
+            if (!json) return sendError(client, {"malformed", "PLACEMENT: " + jsonError}, false);
+            RequestError error;
+            std::optional<EngineRequest> request = parsePlacement(*json, scene_, client.hello.role, &error);
+            if (!request) return sendError(client, error, false, json->value("id"));
+            flushVoltages(client, arrivalNs);  // the turn's VOLTAGES before it, as they came
+            request->arrivalNs = arrivalNs;
+            request->client = client.id;
+            request->id = json->value("id");
+            if (!post(client, std::move(*request)))
+                return sendError(
+                    client,
+                    {"busy", QStringLiteral(
+                                 "more than %1 of this client's requests are waiting for the engine; PLACEMENT dropped")
+                                 .arg(kMaxQueuedPerClient)},
+                    false, json->value("id"));
+            return;
+        }
         case MessageType::Control: {
             QString jsonError;
             const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
@@ -412,6 +434,20 @@ void ControlServer::greet(Client& client, const QJsonObject& json) {
     const std::optional<Hello> hello = parseHello(json, &error);
     if (!hello) return sendError(client, error, true);
     if (hello->role != ClientRole::Observer) {
+        // Only a remote team is a client's to drive (vssim serve --yellow, --blue; the scene's game).
+        const Team team = hello->role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
+        const std::shared_ptr<const Snapshot> snapshot = engine_.snapshots().latest();
+        const GameSettings& game = snapshot ? snapshot->gameSettings : scene_.game;
+        const TeamControl control = team == Team::Yellow ? game.yellow : game.blue;
+        if (control != TeamControl::Remote)
+            return sendError(client,
+                             {"role_not_remote",
+                              QStringLiteral("the %1 team is %2 on this server, not driven by a client (vssim serve "
+                                             "--%1 tcp lets a client drive it)")
+                                  .arg(roleName(hello->role), control == TeamControl::Builtin
+                                                                  ? QStringLiteral("played by the built-in team")
+                                                                  : QStringLiteral("idle"))},
+                             true);
         for (const auto& [id, other] : clients_) {
             if (other.get() != &client && other->greeted && !other->closing && other->hello.role == hello->role)
                 return sendError(
@@ -483,11 +519,25 @@ QJsonObject ControlServer::welcome(const Client& client) const {
         {"frame", snapshot ? static_cast<double>(snapshot->frame) : 0.0},
         {"dt", dt},
         {"frame_period", framePeriod},
-        {"field", QJsonObject{{"length", scene_.field.length}, {"width", scene_.field.width}}},
+        {"field", fieldToJson(scene_.field)},
         {"ball", QJsonObject{{"radius", scene_.ball_params.radius}}},
         {"camera", cameraJson},
         {"robots", robots},
+        {"game", gameJson()},
     };
+}
+
+QJsonObject ControlServer::gameJson() const {
+    const std::shared_ptr<const Snapshot> snapshot = engine_.snapshots().latest();
+    const GameSettings& game = snapshot ? snapshot->gameSettings : scene_.game;
+    QJsonObject json = gameSettingsJson(game.rules, game.yellow, game.blue);
+    // The newest state the clients were told (REFEREE), or the engine's.
+    QJsonObject state = lastReferee_;
+    if (state.isEmpty()) state = gameStateJson(snapshot ? snapshot->game : GameState{});
+    state.remove("frame");
+    state.remove("time");
+    json["state"] = state;
+    return json;
 }
 
 void ControlServer::sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id) {
@@ -652,6 +702,12 @@ void ControlServer::drainEngine() {
                 if (client->hello.state) state = item.frame->state;
                 sendNewest(*client, frame, state, item.frame->instantNs);
             }
+        } else if (item.reply && item.reply->referee) {
+            // The game's state changed: every client is told.
+            lastReferee_ = *item.reply->referee;
+            const QByteArray bytes = protocol::encodeJsonMessage(protocol::MessageType::Referee, lastReferee_);
+            for (auto& [id, client] : clients_)
+                if (client->greeted && !client->closing) send(*client, bytes);
         } else if (item.reply) {
             const EngineReply& r = *item.reply;
             auto it = clients_.find(r.client);
@@ -665,7 +721,9 @@ void ControlServer::drainEngine() {
                 client.stepSeconds = client.steps.empty() ? 0.0 : client.stepSeconds - done;
             }
             if (!r.ok) {
-                sendError(client, {r.error, QStringLiteral("CONTROL %1: %2").arg(r.command, r.message)}, false, r.id);
+                const QString what = r.kind == EngineRequest::Kind::Placement ? QStringLiteral("PLACEMENT")
+                                                                              : QStringLiteral("CONTROL ") + r.command;
+                sendError(client, {r.error, QStringLiteral("%1: %2").arg(what, r.message)}, false, r.id);
                 continue;
             }
             QJsonObject json{{"id", r.id.isUndefined() ? QJsonValue() : r.id},

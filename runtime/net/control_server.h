@@ -152,6 +152,7 @@ private:
     void drainEngine();
     void updateSubscriptions();
     QJsonObject welcome(const Client& client) const;
+    QJsonObject gameJson() const;  // WELCOME's "game": the settings and the state
     void log(const Client& client, const QString& text);
 
     Scene scene_;
@@ -160,7 +161,8 @@ private:
     CameraRenderer background_;  // for the background images sent on HELLO
     QTcpServer server_;
     std::map<int, std::unique_ptr<Client>> clients_;
-    SampleStats imageAgeMs_;  // from the camera instant to its FRAME's hand-over to the socket, ms
+    QJsonObject lastReferee_;  // the last REFEREE sent (empty before the first)
+    SampleStats imageAgeMs_;   // from the camera instant to its FRAME's hand-over to the socket, ms
     int nextId_ = 1;
 };
 

@@ -21,52 +21,109 @@ const char* runModeName(RunMode mode) {
 }
 
 EngineLoop::EngineLoop(const Scene& scene, const EngineLoopSettings& settings, EngineSink& sink)
-    : scene_(scene),
-      settings_(settings),
-      sink_(sink),
-      sim_(std::make_unique<Simulation>(scene)),
-      mode_(settings.mode),
-      speed_(settings.speed) {
-    frameSteps_ = stepsPerFrame(settings.framePeriod, scene.simulation.dt);
+    : scene_(scene), settings_(settings), sink_(sink), mode_(settings.mode), speed_(settings.speed) {
+    newMatch(scene_);
     nextFrameStep_ = frameSteps_;
     control_.assign(scene.robots.size(), RobotControl{});
 }
 
+void EngineLoop::newMatch(const Scene& scene) {
+    match_ = std::make_unique<Match>(scene);
+    told_.reset();
+    updateFrameSteps();
+}
+
+void EngineLoop::updateFrameSteps() {
+    frameSteps_ = stepsPerFrame(settings_.framePeriod, match_->simulation().dt());
+    if (match_->ticking()) {
+        const std::int64_t tick = match_->tickSteps();
+        frameSteps_ = (frameSteps_ + tick - 1) / tick * tick;
+    }
+}
+
 void EngineLoop::start(std::int64_t nowNs) {
     reanchor(nowNs);
+    // Nobody is there yet to be told of the game's start: the ones who come
+    // read it from the snapshots (WELCOME), and hear of its changes.
+    const GameState& g = match_->game();
+    told_ = GameMark{g.phase, g.calls.size(), g.half, g.goals};
     emitInstant(nowNs);
+}
+
+void EngineLoop::advanceMatch(std::int64_t target) {
+    bool manual = false;
+    for (const RobotControl& c : control_) manual = manual || c.controller == RobotController::Manual;
+    if (!manual || !match_->ticking()) {
+        match_->advanceTo(target);
+        return;
+    }
+    const std::int64_t tick = match_->tickSteps();
+    while (simulation().state().step < target) {
+        match_->advanceTo(std::min(target, (simulation().state().step / tick + 1) * tick));
+        applyManual();
+        if (firstNonFiniteBody(simulation().state()) >= 0) return;  // the caller halts
+    }
+}
+
+void EngineLoop::applyManual() {
+    const bool on = !match_->ticking() || match_->game().phase == GamePhase::GameOn;
+    // The Match sets every robot's voltages at each tick and has no override
+    // of its own: the person's are set on its simulation right after.
+    auto& sim = const_cast<Simulation&>(match_->simulation());
+    for (std::size_t i = 0; i < control_.size(); ++i)
+        if (control_[i].controller == RobotController::Manual)
+            sim.setVoltages(static_cast<int>(i), on ? control_[i].manual : Voltages{});
+}
+
+void EngineLoop::tellGame(std::int64_t nowNs, bool force) {
+    if (!match_->scene().game.rules.referee) return;
+    const GameState& g = match_->game();
+    const GameMark mark{g.phase, g.calls.size(), g.half, g.goals};
+    if (!force && told_ && *told_ == mark) return;
+    told_ = mark;
+    sink_.gameChanged(*match_, frame_, nowNs);
+}
+
+bool EngineLoop::needsReferee(const EngineRequest& r) {
+    if (match_->scene().game.rules.referee) return true;
+    replyTo(r, "no_referee", "this scene is played without a referee (its game.referee is false)");
+    return false;
 }
 
 void EngineLoop::reanchor(std::int64_t nowNs) {
     anchorNs_ = nowNs;
-    anchorStep_ = sim_->state().step;
+    anchorStep_ = simulation().state().step;
 }
 
 double EngineLoop::simTimeAt(std::int64_t nowNs) const {
-    return (anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / sim_->dt()) * sim_->dt();
+    return (anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / simulation().dt()) *
+           simulation().dt();
 }
 
 std::int64_t EngineLoop::stepAt(std::int64_t nowNs) const {
     // In steps, so that the anchor's own rounding does not accumulate.
-    const double steps = anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / sim_->dt();
+    const double steps = anchorStep_ + 1e-9 * static_cast<double>(nowNs - anchorNs_) * speed_ / simulation().dt();
     return Simulation::stepIndexAtOrAfter(steps, 1.0);
 }
 
 std::int64_t EngineLoop::nextWakeNs() const {
     if (paused_ || fault_ || mode_ == RunMode::Lockstep) return std::numeric_limits<std::int64_t>::max();
     if (mode_ == RunMode::Max) return 0;
-    const double wakeNs = static_cast<double>(anchorNs_) +
-                          std::ceil(static_cast<double>(nextFrameStep_ - anchorStep_) * sim_->dt() / speed_ * 1e9);
+    const double wakeNs = static_cast<double>(anchorNs_) + std::ceil(static_cast<double>(nextFrameStep_ - anchorStep_) *
+                                                                     simulation().dt() / speed_ * 1e9);
     // Saturate rather than overflow the conversion (a tiny speed factor).
     if (!(wakeNs < 9.2e18)) return std::numeric_limits<std::int64_t>::max();
     return static_cast<std::int64_t>(wakeNs);
 }
 
-void EngineLoop::emitInstant(std::int64_t nowNs) { sink_.cameraInstant(*sim_, frame_, nowNs); }
+void EngineLoop::emitInstant(std::int64_t nowNs) {
+    tellGame(nowNs);
+    sink_.cameraInstant(simulation(), frame_, nowNs);
+}
 
 bool EngineLoop::halt(std::int64_t nowNs) {
     if (fault_) return true;
-    fault_ = findSimulationFault(*sim_);
+    fault_ = findSimulationFault(simulation());
     if (!fault_) return false;
     if (mode_ != RunMode::Lockstep) paused_ = true;
     sink_.halted(*fault_, nowNs);
@@ -74,35 +131,35 @@ bool EngineLoop::halt(std::int64_t nowNs) {
 }
 
 bool EngineLoop::stillHalted() {
-    if (fault_) fault_ = findSimulationFault(*sim_);
+    if (fault_) fault_ = findSimulationFault(simulation());
     return fault_.has_value();
 }
 
 bool EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
     while (nextFrameStep_ <= target) {
-        sim_->advanceTo(nextFrameStep_);
+        advanceMatch(nextFrameStep_);
         if (halt(nowNs)) return false;  // no camera instant of a non-finite state
         ++frame_;
         nextFrameStep_ += frameSteps_;
         emitInstant(nowNs);
     }
-    sim_->advanceTo(target);
+    advanceMatch(target);
     return !halt(nowNs);
 }
 
 bool EngineLoop::catchUp(std::int64_t wallNs, std::int64_t nowNs, std::int64_t budgetSteps) {
     const std::int64_t target = stepAt(wallNs);
-    const std::int64_t behind = target - sim_->state().step;
+    const std::int64_t behind = target - simulation().state().step;
     if (behind <= 0) return behind == 0;
     // Fallen further behind than maxLag of wall time (a stalled machine, a
     // speed factor beyond what the engine sustains): drop the lag instead of
     // never catching up.
-    if (static_cast<double>(behind) * sim_->dt() / speed_ > settings_.maxLag) {
+    if (static_cast<double>(behind) * simulation().dt() / speed_ > settings_.maxLag) {
         ++stats_.lagResets;
         reanchor(wallNs);
         return true;
     }
-    advanceTo(behind > budgetSteps ? sim_->state().step + budgetSteps : target, nowNs);
+    advanceTo(behind > budgetSteps ? simulation().state().step + budgetSteps : target, nowNs);
     return true;
 }
 
@@ -118,9 +175,10 @@ void EngineLoop::runUntil(std::int64_t nowNs) {
 }
 
 void EngineLoop::restart(std::int64_t arrivalNs, std::int64_t nowNs) {
-    sim_ = std::make_unique<Simulation>(scene_);
+    newMatch(scene_);
     fault_.reset();  // the scene's own state is finite (the scene reader's ranges)
-    restartClock(arrivalNs, nowNs);
+    applyManual();
+    restartClock(arrivalNs, nowNs);  // its camera instant tells the sink of the new game
 }
 
 void EngineLoop::restartClock(std::int64_t arrivalNs, std::int64_t nowNs) {
@@ -149,12 +207,12 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                     continue;
                 }
                 c.controller = r.client >= 0 ? RobotController::Tcp : RobotController::None;
-                sim_->setVoltages(robot, e);
+                match_->setVoltages(robot, e);
             }
             stats_.commandLatencyMs.add(1e-6 * static_cast<double>(nowNs - r.arrivalNs));
             if (running()) {
                 const double arrivalTime = simTimeAt(r.arrivalNs);
-                stats_.commandDelayMs.add(1e3 * std::max(0.0, sim_->state().time - arrivalTime));
+                stats_.commandDelayMs.add(1e3 * std::max(0.0, simulation().state().time - arrivalTime));
             } else {
                 stats_.commandDelayMs.add(0.0);
             }
@@ -164,42 +222,104 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             for (const auto& [robot, e] : r.voltages) {
                 if (robot < 0 || robot >= static_cast<int>(control_.size())) continue;  // another scene's robot
                 control_[robot].controller = RobotController::Manual;
-                sim_->setVoltages(robot, e);
+                control_[robot].manual = e;
             }
+            applyManual();
             return;
         case Kind::ReleaseManual: {
             if (r.robot < 0 || r.robot >= static_cast<int>(control_.size())) break;  // another scene's robot
             RobotControl& c = control_[r.robot];
             if (c.controller == RobotController::Manual) {
                 c.controller = c.client >= 0 ? RobotController::Tcp : RobotController::None;
-                sim_->setVoltages(r.robot, c.client >= 0 ? c.lastTcp : Voltages{});
+                c.manual = Voltages{};
+                // A remote team's robot: its last TCP voltages now; a built-in
+                // team's: its team's from the next tick (0 V until then).
+                auto& sim = const_cast<Simulation&>(match_->simulation());
+                sim.setVoltages(r.robot, Voltages{});
+                match_->setVoltages(r.robot, c.client >= 0 ? c.lastTcp : Voltages{});
                 c.tcpWhileManual = false;
             }
             break;
         }
         case Kind::LoadScene:
             scene_ = *r.scene;
-            frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
             control_.assign(scene_.robots.size(), RobotControl{});
             if (r.startPaused) paused_ = true;  // before the restart: not one step runs
             restart(r.arrivalNs, nowNs);
             break;
         case Kind::SetSettings: {
-            const WorldState before = sim_->state();
+            const WorldState before = simulation().state();
             scene_.simulation = r.scene->simulation;
-            frameSteps_ = stepsPerFrame(settings_.framePeriod, scene_.simulation.dt);
+            // Who drives each team now (the desktop app may have changed it).
+            scene_.game.yellow = match_->control(Team::Yellow);
+            scene_.game.blue = match_->control(Team::Blue);
             Scene now = scene_;
             now.commands.clear();  // the schedule's times refer to the old clock
-            sim_ = std::make_unique<Simulation>(now);
-            for (std::size_t i = 0; i < before.robots.size(); ++i) {
-                sim_->placeRobot(static_cast<int>(i), before.robots[i]);
-                sim_->setVoltages(static_cast<int>(i), before.voltages[i]);
+            newMatch(now);
+            if (!now.game.rules.referee) {
+                // No game to restart: the bodies stay, with their voltages.
+                for (std::size_t i = 0; i < before.robots.size(); ++i) {
+                    match_->placeRobot(static_cast<int>(i), before.robots[i]);
+                    if (control_[i].controller != RobotController::Manual)
+                        match_->setVoltages(static_cast<int>(i), before.voltages[i]);
+                }
+                match_->placeBall(before.ball);
+                stillHalted();  // the same state: still non-finite, or mended by placements
+            } else {
+                fault_.reset();  // the kick-off's placement: every body at rest in its place
             }
-            sim_->placeBall(before.ball);
-            stillHalted();  // the same state: still non-finite, or mended by placements
+            applyManual();
             restartClock(r.arrivalNs, nowNs);
             break;
         }
+        case Kind::CallFoul:
+            if (!needsReferee(r)) return;
+            if (!match_->call(r.call, r.team, r.quadrant))
+                return replyTo(r, "malformed", "a free ball needs a quadrant from 1 to 4");
+            applyManual();
+            tellGame(nowNs);
+            break;
+        case Kind::HaltGame:
+        case Kind::ResumeGame:
+            if (!needsReferee(r)) return;
+            if (match_->game().phase == GamePhase::Finished)
+                return replyTo(r, "finished", "the match is over (reset starts it again)");
+            if (r.kind == Kind::HaltGame)
+                match_->halt();
+            else
+                match_->resume();
+            applyManual();
+            tellGame(nowNs);
+            break;
+        case Kind::Placement: {
+            if (!needsReferee(r)) return;
+            if (match_->game().phase != GamePhase::Stop)
+                return replyTo(r, "not_stopped",
+                               QStringLiteral("placements are taken only while the game is stopped (STOP); it is %1")
+                                   .arg(gamePhaseName(match_->game().phase)));
+            const std::string why = match_->placeTeam(r.team, r.poses);
+            if (!why.empty())
+                return replyTo(r, "illegal_placement",
+                               QStringLiteral("%1 (for the %2 of %3): the referee's placement stays")
+                                   .arg(QString::fromStdString(why), callName(match_->game().last.call),
+                                        match_->game().last.call == Call::FreeBall
+                                            ? QStringLiteral("quadrant %1").arg(match_->game().last.quadrant)
+                                            : QString::fromLatin1(teamLabel(match_->game().last.team))));
+            stillHalted();
+            break;
+        }
+        case Kind::SetTeamControl:
+            match_->setControl(r.team, r.control);
+            (r.team == Team::Yellow ? scene_.game.yellow : scene_.game.blue) = r.control;
+            updateFrameSteps();
+            // The next camera instant on a tick boundary, if the Match ticks now.
+            nextFrameStep_ = std::max(nextFrameStep_, (simulation().state().step / frameSteps_ + 1) * frameSteps_);
+            if (match_->ticking()) {
+                const std::int64_t tick = match_->tickSteps();
+                nextFrameStep_ = (nextFrameStep_ + tick - 1) / tick * tick;
+            }
+            applyManual();
+            break;
         case Kind::Pause: paused_ = true; break;
         case Kind::Resume:
             if (stillHalted()) return replyTo(r, "non_finite", haltedMessage());
@@ -212,11 +332,17 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             if (!paused_ && mode_ != RunMode::Lockstep)
                 return replyTo(r, "not_paused", "step works only while paused or in lockstep mode");
             if (stillHalted()) return replyTo(r, "non_finite", haltedMessage());
-            const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, sim_->dt());
-            sim_->advanceTo(sim_->state().step + steps);
+            const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, simulation().dt());
+            std::int64_t target = simulation().state().step + steps;
+            if (match_->ticking()) {
+                // In a game a step ends on a tick boundary: after the referee's decisions there.
+                const std::int64_t tick = match_->tickSteps();
+                target = (target + tick - 1) / tick * tick;
+            }
+            advanceMatch(target);
             if (halt(nowNs)) return replyTo(r, "non_finite", haltedMessage());
             ++frame_;
-            nextFrameStep_ = sim_->state().step + frameSteps_;
+            nextFrameStep_ = simulation().state().step + frameSteps_;
             emitInstant(nowNs);
             break;
         }
@@ -225,9 +351,9 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             restart(r.arrivalNs, nowNs);
             break;
         case Kind::PlaceRobot:
-            if (r.robot >= 0 && r.robot < static_cast<int>(control_.size())) sim_->placeRobot(r.robot, r.robotPose);
+            if (r.robot >= 0 && r.robot < static_cast<int>(control_.size())) match_->placeRobot(r.robot, r.robotPose);
             break;
-        case Kind::PlaceBall: sim_->placeBall(r.ball); break;
+        case Kind::PlaceBall: match_->placeBall(r.ball); break;
         case Kind::Speed:
             if (mode_ == RunMode::Lockstep) return replyTo(r, "lockstep", "the speed cannot change in lockstep mode");
             mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;
@@ -261,7 +387,7 @@ void EngineLoop::replyTo(const EngineRequest& r, const QString& error, const QSt
     reply.ok = error.isEmpty();
     reply.error = error;
     reply.message = message;
-    reply.time = sim_->state().time;
+    reply.time = simulation().state().time;
     reply.frame = frame_;
     reply.stats = std::move(stats);
     sink_.reply(reply);

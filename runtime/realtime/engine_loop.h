@@ -19,8 +19,35 @@
 // (realtime, max); until a reset or a new scene, or placements that make the
 // state finite again, `step` and `resume` are refused with error
 // "non_finite" and time stands still.
+//
+// The game: the loop plays the scene as a Match (game/match.h): the referee
+// and the built-in teams act at every game tick (the scene's game.tick);
+// with the referee off and no built-in team the Match is exactly the plain
+// Simulation. While the Match ticks, camera instants fall on tick
+// boundaries (the frame period is rounded up to whole ticks) and a `step`
+// ends on one (its duration is rounded up to the next tick boundary), so
+// every instant a client sees comes after the referee's and the built-in
+// team's decisions at it, and lockstep runs stay bit-identical. A change of
+// the game's state (phase, call, half, score) is told to the sink
+// (gameChanged) before the camera instant that first shows it, or at once
+// when a request made it.
+//
+// Voltages: a TCP client's go to the Match (Match::setVoltages: applied to
+// a remote team's robots while the game is on, ignored for a built-in or
+// idle team's). A person's (ManualVoltages) override the robot whatever its
+// team's control: they are applied again after every tick while the game is
+// on, and the robot gets 0 V while it is stopped, like every other robot.
+// Let go (ReleaseManual), a remote team's robot gets its last TCP voltages
+// again at once, a built-in team's robot its team's voltages from the next
+// tick.
+//
+// New simulation settings (SetSettings) make a new Match: in a game with a
+// referee it starts again from its kick-off (score 0:0, first half; the
+// Match cannot carry a game over to another step); otherwise the bodies stay
+// where they are, as before.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -28,6 +55,7 @@
 #include "realtime/engine_request.h"
 #include "realtime/sample_stats.h"
 #include "realtime/simulation_fault.h"
+#include "vssim/game/match.h"
 #include "vssim/scene.h"
 #include "vssim/world.h"
 
@@ -42,6 +70,7 @@ struct RobotControl {
     int client = -1;              // the TCP client whose voltages it last took (Tcp), or -1
     Voltages lastTcp;             // the last TCP voltages, also while under manual control, V
     bool tcpWhileManual = false;  // TCP voltages arrived (and were ignored) under manual control
+    Voltages manual;              // the person's voltages while under manual control, V
 };
 const char* runModeName(RunMode mode);
 
@@ -56,6 +85,16 @@ public:
     // has halted (see above). Called once per halt; nothing by default.
     virtual void halted(const SimulationFault& fault, std::int64_t nowNs) {
         (void)fault;
+        (void)nowNs;
+    }
+    // The game's state changed (phase, call, half or score; with a referee
+    // only), or the game started again: at a reset and a new scene (not at
+    // start(), before anyone could listen). `frame`
+    // is the camera instant it comes before (or the current one, after a
+    // request). Nothing by default.
+    virtual void gameChanged(const Match& match, std::int64_t frame, std::int64_t nowNs) {
+        (void)match;
+        (void)frame;
         (void)nowNs;
     }
 };
@@ -97,7 +136,8 @@ public:
     // (realtime), 0 (max: now), or the largest int64 (paused, lockstep).
     std::int64_t nextWakeNs() const;
 
-    const Simulation& simulation() const { return *sim_; }
+    const Simulation& simulation() const { return match_->simulation(); }
+    const Match& match() const { return *match_; }
     const Scene& scene() const { return scene_; }
     const std::vector<RobotControl>& control() const { return control_; }
     std::int64_t frame() const { return frame_; }
@@ -116,7 +156,7 @@ private:
     EngineLoopSettings settings_;
     std::vector<RobotControl> control_;  // per robot
     EngineSink& sink_;
-    std::unique_ptr<Simulation> sim_;
+    std::unique_ptr<Match> match_;
     RunMode mode_;
     bool paused_ = false;
     double speed_;
@@ -127,6 +167,31 @@ private:
     std::int64_t anchorStep_ = 0;
     EngineLoopStats stats_;
     std::optional<SimulationFault> fault_;
+    // What gameChanged last told: phase, calls made, half, goals.
+    struct GameMark {
+        GamePhase phase = GamePhase::GameOn;
+        std::size_t calls = 0;
+        int half = 0;
+        std::array<int, 2> goals{};
+        bool operator==(const GameMark& o) const {
+            return phase == o.phase && calls == o.calls && half == o.half && goals == o.goals;
+        }
+    };
+    std::optional<GameMark> told_;
+
+    // The Match for scene `scene` (the loop's own, or one without commands).
+    void newMatch(const Scene& scene);
+    // The camera period in whole steps, and whole game ticks while the Match ticks.
+    void updateFrameSteps();
+    // Advances the Match to step `target`, a tick at a time while a person
+    // overrides a robot (their voltages again after each tick).
+    void advanceMatch(std::int64_t target);
+    // The person's voltages on the robots under manual control (0 V while the game is stopped).
+    void applyManual();
+    // Tells the sink when the game's state changed (or always, `force`).
+    void tellGame(std::int64_t nowNs, bool force = false);
+    // A game request's check: the referee must be on.
+    bool needsReferee(const EngineRequest& request);
 
     bool running() const { return mode_ == RunMode::Realtime && !paused_ && !fault_; }
     // Checks the state after an advance: on the first non-finite one, halts

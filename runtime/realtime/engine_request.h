@@ -5,6 +5,7 @@
 // paused or lockstep engine).
 #pragma once
 
+#include <QJsonObject>
 #include <QJsonValue>
 #include <QString>
 #include <atomic>
@@ -17,6 +18,7 @@
 #include "io/scene_limits.h"
 #include "realtime/stats_report.h"
 #include "vssim/ball.h"
+#include "vssim/game/game_state.h"
 #include "vssim/robot_state.h"
 #include "vssim/scene.h"
 
@@ -48,7 +50,14 @@ struct EngineRequest {
         Stats,
         LoadScene,    // replace the scene (`scene`) and start it from its beginning
         SetSettings,  // `scene->simulation` (integrator, dt, collisions): the bodies stay where they
-                      // are, with their velocities and voltages; the clock restarts at 0
+                      // are, with their velocities and voltages; the clock restarts at 0 (in a game
+                      // with a referee, the game restarts from its kick-off: engine_loop.h)
+        // The game (a scene with a referee; refused with error "no_referee" otherwise):
+        CallFoul,        // the referee calls `call` for `team` (`quadrant` 1-4 for a free ball), by hand
+        HaltGame,        // HALT: every robot at 0 V, the game clock stopped, until ResumeGame
+        ResumeGame,      // GAME_ON from HALT or STOP (not the loop's Resume: time may run while halted)
+        Placement,       // `team`'s own placement during STOP: `poses`, checked against the call
+        SetTeamControl,  // `team` is driven by `control` from now on (built-in, remote or idle)
     };
     Kind kind = Kind::Voltages;
     std::int64_t arrivalNs = 0;                      // monotonicNs() when the message arrived
@@ -64,8 +73,13 @@ struct EngineRequest {
     // The sender's count of requests queued and not yet handled: the engine
     // decrements it after handling (a per-client quota against floods).
     std::shared_ptr<std::atomic<int>> queued;
-    std::shared_ptr<const Scene> scene;  // LoadScene
-    bool startPaused = false;            // LoadScene: paused at t = 0 (otherwise as before)
+    std::shared_ptr<const Scene> scene;             // LoadScene
+    bool startPaused = false;                       // LoadScene: paused at t = 0 (otherwise as before)
+    Call call = Call::None;                         // CallFoul
+    Team team = Team::Yellow;                       // CallFoul, Placement, SetTeamControl
+    int quadrant = 0;                               // CallFoul: 1-4 for a free ball
+    std::vector<std::pair<int, RobotState>> poses;  // Placement: (robot index, pose)
+    TeamControl control = TeamControl::Remote;      // SetTeamControl
 };
 
 struct EngineReply {
@@ -79,6 +93,9 @@ struct EngineReply {
     double time = 0.0;                 // simulated time after the request, s
     std::int64_t frame = 0;            // camera instant number after the request
     std::optional<StatsReport> stats;  // a `stats` request's measurements, filled in on the way
+    // Not a reply but news for every client (client -1): the game's state
+    // changed (protocol.md, REFEREE), as its JSON.
+    std::optional<QJsonObject> referee;
 };
 
 }  // namespace vssim

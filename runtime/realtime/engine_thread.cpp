@@ -5,6 +5,7 @@
 
 #include "camera/image_patches.h"
 #include "realtime/monotonic_clock.h"
+#include "wire/game_message.h"
 #include "wire/state_message.h"
 
 namespace vssim {
@@ -181,7 +182,11 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
         for (const cv::Rect& r : job.patches) area += r.area();
         patchPercent_.add(100.0 * area / (static_cast<double>(job.image.cols) * job.image.rows));
     }
-    if (stateWanted) job.state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame));
+    if (stateWanted) {
+        const Match& match = loop_->match();
+        const GameState* game = match.scene().game.rules.referee ? &match.game() : nullptr;
+        job.state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame, game));
+    }
     encoder_->submit(std::move(job));
 }
 
@@ -199,5 +204,16 @@ void EngineThread::reply(const EngineReply& reply) {
 }
 
 void EngineThread::halted(const SimulationFault& fault, std::int64_t) { emit simulationHalted(fault.message()); }
+
+void EngineThread::gameChanged(const Match& match, std::int64_t frame, std::int64_t) {
+    EncodeJob job;
+    job.reply = EngineReply{};
+    QJsonObject json = gameStateJson(match.game());
+    json["frame"] = static_cast<double>(frame);
+    json["time"] = match.simulation().state().time;
+    job.reply->referee = json;
+    // Through the encoder, to stay in order with the frames around it.
+    if (encoder_) encoder_->submit(std::move(job));
+}
 
 }  // namespace vssim

@@ -68,6 +68,7 @@ private:
     void cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) override;
     void reply(const EngineReply& reply) override;
     void halted(const SimulationFault& fault, std::int64_t nowNs) override;
+    void gameChanged(const Match& match, std::int64_t frame, std::int64_t nowNs) override;
     void push(OutboxItem item);
 
     const Scene scene_;

@@ -18,6 +18,11 @@ Snapshot takeSnapshot(const EngineLoop& loop, std::shared_ptr<const Scene> scene
     for (std::size_t i = 0; i < s.robots.size(); ++i) s.outputs.push_back(sim.robotOutputs(static_cast<int>(i)));
     s.ball = sim.state().ball;
     s.control = loop.control();
+    const Match& match = loop.match();
+    s.game = match.game();
+    s.gameSettings = match.scene().game;
+    s.gameSettings.yellow = match.control(Team::Yellow);
+    s.gameSettings.blue = match.control(Team::Blue);
     s.scene = std::move(scene);
     s.stepCost = stepCost;
     s.publishedNs = nowNs;

@@ -30,7 +30,11 @@ struct Snapshot {
     std::vector<Voltages> voltages;     // applied, V
     std::vector<RobotOutputs> outputs;  // wheel speeds (rad/s), currents (A), torques (N m)
     BallState ball;
-    std::vector<RobotControl> control;   // who drives each robot
+    std::vector<RobotControl> control;  // who drives each robot
+    // The game (game/match.h): its state (score, phase, half, clock, the
+    // last call), and its rules and each team's control now.
+    GameState game;
+    GameSettings gameSettings;
     std::shared_ptr<const Scene> scene;  // the scene being run (changes only on LoadScene)
     double stepCost = 0.0;               // wall seconds spent per simulated second over the last pass
     std::int64_t publishedNs = 0;        // monotonicNs() at publication

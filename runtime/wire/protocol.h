@@ -25,11 +25,13 @@ enum class MessageType : std::uint8_t {
     Hello = 0x01,
     Voltages = 0x02,
     Control = 0x03,
+    Placement = 0x04,
     Welcome = 0x81,
     Frame = 0x82,
     State = 0x83,
     Reply = 0x84,
     Error = 0x85,
+    Referee = 0x86,
 };
 
 struct Message {

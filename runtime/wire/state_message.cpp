@@ -2,9 +2,11 @@
 
 #include <QJsonArray>
 
+#include "wire/game_message.h"
+
 namespace vssim {
 
-QJsonObject stateJson(const Simulation& sim, std::int64_t frame) {
+QJsonObject stateJson(const Simulation& sim, std::int64_t frame, const GameState* game) {
     const WorldState& s = sim.state();
     QJsonArray robots;
     for (std::size_t i = 0; i < s.robots.size(); ++i) {
@@ -25,12 +27,14 @@ QJsonObject stateJson(const Simulation& sim, std::int64_t frame) {
             {"left_wheel_speed", out.wheel_speed_left},
         });
     }
-    return QJsonObject{
+    QJsonObject json{
         {"frame", static_cast<double>(frame)},
         {"time", s.time},
         {"robots", robots},
         {"ball", QJsonObject{{"x", s.ball.x}, {"y", s.ball.y}, {"vx", s.ball.vx}, {"vy", s.ball.vy}}},
     };
+    if (game) json["game"] = gameStateJson(*game);
+    return json;
 }
 
 }  // namespace vssim

@@ -5,10 +5,13 @@
 #include <QJsonObject>
 #include <cstdint>
 
+#include "vssim/game/game_state.h"
 #include "vssim/world.h"
 
 namespace vssim {
 
-QJsonObject stateJson(const Simulation& sim, std::int64_t frame);
+// With `game` (a scene with a referee), also the game's state: "game"
+// (wire/game_message.h).
+QJsonObject stateJson(const Simulation& sim, std::int64_t frame, const GameState* game = nullptr);
 
 }  // namespace vssim

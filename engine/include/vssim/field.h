@@ -70,6 +70,7 @@ struct Field {
     // Corners of the chain that point into the field (the goal posts), m:
     // bodies can touch them with a face, not only a wall with a vertex.
     std::vector<Eigen::Vector2d> posts;
+    std::vector<int> postWalls;  // the wall that starts at each post
     // The chain's bounding box: the floor including the goals, m.
     Eigen::Vector2d lower = Eigen::Vector2d::Zero(), upper = Eigen::Vector2d::Zero();
     // For each wall, whether its first end (a) is a post: the walls on the
@@ -89,7 +90,7 @@ Field makeField(const FieldDimensions& dimensions);
 Field makeRectangularField(double length, double width);
 
 // Whether a point lies on the floor (inside the chain of walls, the goals
-// included; on a wall counts as inside).
+// included; within 1e-13 m of a wall counts as inside).
 bool onFloor(const Field& field, const Eigen::Vector2d& p);
 // The nearest point of the walls to p: which wall and where, and the
 // distance, m.
@@ -99,6 +100,9 @@ struct NearestWall {
     double distance = 0.0;
 };
 NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p);
+// Whether some wall comes within `reach` (m) of p (nearestWall(p).distance
+// <= reach), with the walls whose bounding boxes are out of reach skipped.
+bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach);
 
 // Whether a disc of radius r around p lies on the floor clear of every wall
 // by a margin (a cheap, conservative test: false near a wall even when the

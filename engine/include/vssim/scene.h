@@ -8,6 +8,7 @@
 #include "vssim/ball.h"
 #include "vssim/collision_model.h"
 #include "vssim/field.h"
+#include "vssim/game_settings.h"
 #include "vssim/integrator.h"
 #include "vssim/robot_params.h"
 #include "vssim/robot_state.h"
@@ -50,6 +51,7 @@ struct Scene {
     BallState ball;  // initial ball state
     std::vector<RobotSpec> robots;
     std::vector<VoltageCommand> commands;  // any order; applied in time order, ties in file order
+    GameSettings game;                     // the referee's rules and the teams' controllers (game/)
 };
 
 }  // namespace vssim
