@@ -30,14 +30,27 @@ bool isFinite(const WorldState& state) {
 
 double worstOutside(const WorldModel& model, const WorldState& state) {
     if (!isFinite(state)) return std::numeric_limits<double>::infinity();
-    const double hx = 0.5 * model.field.length;  // m
-    const double hy = 0.5 * model.field.width;   // m
+    const Field& field = model.field;
+    // Signed distance of a point beyond the chain of walls (negative on the floor), m.
+    auto beyond = [&field](const Eigen::Vector2d& p) {
+        const double d = nearestWall(field, p).distance;
+        return onFloor(field, p) ? -d : d;
+    };
     double worst = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < state.robots.size(); ++i)
-        for (const Eigen::Vector2d& v : robotVertices(state.robots[i], model.sides[i]))
-            worst = std::max({worst, std::abs(v.x()) - hx, std::abs(v.y()) - hy});
-    const double r = model.ball.radius;
-    return std::max({worst, std::abs(state.ball.x) + r - hx, std::abs(state.ball.y) + r - hy});
+    for (std::size_t i = 0; i < state.robots.size(); ++i) {
+        const RobotState& r = state.robots[i];
+        const double side = model.sides[i];
+        if (clearOfWalls(field, {r.x, r.y}, boundingRadius(side))) continue;  // far inside: nothing to measure
+        for (const Eigen::Vector2d& v : robotVertices(r, side)) worst = std::max(worst, beyond(v));
+        // A post inside the square (no vertex beyond any wall): how deep.
+        for (const Eigen::Vector2d& post : field.posts) {
+            const Eigen::Vector2d local = toRobotFrame(r, post);
+            worst = std::max(worst, std::min(0.5 * side - std::abs(local.x()), 0.5 * side - std::abs(local.y())));
+        }
+    }
+    const Eigen::Vector2d ball(state.ball.x, state.ball.y);
+    if (!clearOfWalls(field, ball, model.ball.radius)) worst = std::max(worst, beyond(ball) + model.ball.radius);
+    return worst;
 }
 
 double worstOverlap(const WorldModel& model, const WorldState& state) {

@@ -19,8 +19,10 @@ constexpr double kMaxEnergyGain = 1e-9;  // kinetic energy created in a step, re
 bool isFinite(const WorldState& state);
 
 // The largest distance by which a robot's vertex or the ball's edge lies
-// beyond the field's rectangle (length x width centred on the origin), m;
-// negative when everything is inside, +inf when the state is not finite.
+// beyond the field's walls (the chain: the goals are floor, the corner
+// triangles and the solid behind the posts are not), or a post lies inside
+// a robot, m; negative when everything is inside, +inf when the state is not
+// finite.
 double worstOutside(const WorldModel& model, const WorldState& state);
 
 // The deepest contact between two bodies (robot-robot, robot-ball; wall

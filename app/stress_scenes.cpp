@@ -47,16 +47,25 @@ struct Region {
 constexpr double kFullVoltage = 7.4;  // V: the default e_max, commanded as it is (the engine clamps)
 constexpr int kPlacementAttempts = 4000;
 
+// The field's bounding box (the goals included).
 Region wholeField(const Scene& scene) {
     const double hx = 0.5 * scene.field.length, hy = 0.5 * scene.field.width;
+    if (hasGoals(scene.field)) return {scene.field.lower.x(), scene.field.upper.x(), -hy, hy};
     return {-hx, hx, -hy, hy};
 }
 
-bool robotFits(const Scene& scene, const RobotState& pose, double side, double gap) {
+// Whether a robot lies on the floor `gap` clear of the walls. The box keeps
+// its rectangle test (so that its scenes stay what they were); a field with
+// goals tests the robot's square grown by the gap against the chain.
+bool robotOnFloor(const Scene& scene, const RobotState& pose, double side, double gap) {
+    if (hasGoals(scene.field)) return robotInsideField(scene.field, side + 2.0 * gap, pose.x, pose.y, pose.theta);
     const double extent = 0.5 * side * (std::abs(std::cos(pose.theta)) + std::abs(std::sin(pose.theta)));
-    if (std::abs(pose.x) > 0.5 * scene.field.length - extent - gap ||
-        std::abs(pose.y) > 0.5 * scene.field.width - extent - gap)
-        return false;
+    return std::abs(pose.x) <= 0.5 * scene.field.length - extent - gap &&
+           std::abs(pose.y) <= 0.5 * scene.field.width - extent - gap;
+}
+
+bool robotFits(const Scene& scene, const RobotState& pose, double side, double gap) {
+    if (!robotOnFloor(scene, pose, side, gap)) return false;
     for (const RobotSpec& other : scene.robots)
         if (squareOverlap(pose, side + gap, other.initial, other.params.side + gap).overlapping) return false;
     const Eigen::Vector2d ball(scene.ball.x, scene.ball.y);
@@ -65,8 +74,11 @@ bool robotFits(const Scene& scene, const RobotState& pose, double side, double g
 
 bool ballFits(const Scene& scene, double x, double y, double gap) {
     const double r = scene.ball_params.radius;
-    if (std::abs(x) > 0.5 * scene.field.length - r - gap || std::abs(y) > 0.5 * scene.field.width - r - gap)
+    if (hasGoals(scene.field)) {
+        if (!discInsideField(scene.field, r + gap, x, y)) return false;
+    } else if (std::abs(x) > 0.5 * scene.field.length - r - gap || std::abs(y) > 0.5 * scene.field.width - r - gap) {
         return false;
+    }
     for (const RobotSpec& robot : scene.robots)
         if (pointInRobot(robot.initial, robot.params.side, {x, y}, r + gap)) return false;
     return true;
@@ -265,6 +277,125 @@ void makeExtreme(Random& rng, StressScene& s, double seconds) {
     setBallVelocity(rng, scene, 5.0);
 }
 
+// An official field, 3 vs 3 or 5 vs 5.
+void useOfficialField(Random& rng, Scene& scene) {
+    scene.field = makeField(officialDimensions(rng.coin() ? FieldType::Vsss3v3 : FieldType::Vsss5v5));
+}
+
+// Robots driven into the goals' back corners and the corner triangles:
+// 1-2 robots in and at the mouth of each goal, one near each corner
+// triangle, full voltage with flipping signs; the ball fired at 5-10 m/s at
+// a back corner of a goal.
+void makeGoalCorners(Random& rng, StressScene& s, double seconds) {
+    Scene& scene = s.scene;
+    useOfficialField(rng, scene);
+    const FieldDimensions& d = scene.field.dimensions;
+    const double hx = 0.5 * d.length, hy = 0.5 * d.width, g = 0.5 * d.goal_width;
+    scene.ball.x = 100.0;  // out of the way until the robots are placed
+    for (double sx : {-1.0, 1.0}) {
+        const Region goal{sx > 0 ? hx - 0.05 : -hx - d.goal_depth, sx > 0 ? hx + d.goal_depth : -hx + 0.05, -g, g};
+        const int n = rng.integer(1, 2);
+        for (int i = 0; i < n; ++i) addRobot(rng, scene, RobotParams{}, goal, 0.001);
+        for (double sy : {-1.0, 1.0}) {
+            const double reach = d.corner_leg + 0.12;  // m
+            const Region corner{sx > 0 ? hx - reach : -hx, sx > 0 ? hx : -hx + reach, sy > 0 ? hy - reach : -hy,
+                                sy > 0 ? hy : -hy + reach};
+            addRobot(rng, scene, RobotParams{}, corner, 0.001);
+        }
+    }
+    for (int i = 0; i < static_cast<int>(scene.robots.size()); ++i)
+        addFlippingCommands(rng, scene, i, rng.uniform(0.1, 0.5), seconds);
+    placeBall(rng, scene, 0.002);
+    const double sx = rng.coin() ? 1.0 : -1.0;
+    const double sy = rng.coin() ? 1.0 : -1.0;
+    const double tx = sx * (hx + d.goal_depth - rng.uniform(0.0, 0.03));
+    const double ty = sy * (g - rng.uniform(0.0, 0.03));
+    const double dx = tx - scene.ball.x, dy = ty - scene.ball.y;
+    const double distance = std::max(1e-9, std::hypot(dx, dy));
+    const double speed = rng.uniform(5.0, 10.0);
+    scene.ball.vx = speed * dx / distance;
+    scene.ball.vy = speed * dy / distance;
+}
+
+// The ball wedged between a post and a robot: the ball touching a random
+// post from a random side (from the field, along the goal line, from inside
+// the goal), a robot right behind it facing the post at full forward
+// voltage, backing off for 0.1 s every 0.3-1.5 s; 0-2 more robots around
+// that goal with flipping signs.
+void makePostWedge(Random& rng, StressScene& s, double seconds) {
+    Scene& scene = s.scene;
+    useOfficialField(rng, scene);
+    const FieldDimensions& d = scene.field.dimensions;
+    const double sx = rng.coin() ? 1.0 : -1.0;
+    const double sy = rng.coin() ? 1.0 : -1.0;
+    const Eigen::Vector2d post(sx * 0.5 * d.length, sy * 0.5 * d.goal_width);
+    const double r = scene.ball_params.radius;
+    const RobotParams params;
+    RobotSpec robot;
+    robot.params = params;
+    robot.name = "robot1";
+    for (int attempt = 0;; ++attempt) {
+        // a = 0: straight out into the field; a > 0 towards the goal's middle
+        // and into the goal (up to 2.5 rad); a < 0 along the goal line.
+        const double a = rng.uniform(-1.2, 2.5);
+        const Eigen::Vector2d u(-sx * std::cos(a), -sy * std::sin(a));
+        const Eigen::Vector2d ball = post + (r + 0.0005) * u;
+        const Eigen::Vector2d centre = ball + (r + 0.5 * params.side + 0.002) * u;
+        scene.ball.x = ball.x(), scene.ball.y = ball.y();
+        robot.initial.x = centre.x(), robot.initial.y = centre.y();
+        robot.initial.theta = std::atan2(-u.y(), -u.x()) + rng.uniform(-0.3, 0.3);
+        scene.robots.clear();
+        if ((ballFits(scene, ball.x(), ball.y(), 0.0) && robotFits(scene, robot.initial, params.side, 0.0)) ||
+            attempt == kPlacementAttempts) {
+            if (attempt == kPlacementAttempts) scene.ball.x = scene.ball.y = 0.0, robot.initial = RobotState{};
+            scene.robots.push_back(robot);
+            break;
+        }
+    }
+    Random pushes(rng.seed(), 0);
+    for (double t = 0.0; t < seconds;) {
+        scene.commands.push_back({t, 0, {kFullVoltage, kFullVoltage}});
+        t += pushes.uniform(0.3, 1.5);
+        if (t < seconds) scene.commands.push_back({t, 0, {-kFullVoltage, -kFullVoltage}});
+        t += 0.1;
+    }
+    const Region around{post.x() - 0.3, post.x() + 0.1, post.y() - 0.3, post.y() + 0.3};
+    const int n = rng.integer(0, 2);
+    for (int i = 0; i < n; ++i) addRobot(rng, scene, RobotParams{}, around, 0.002);
+    for (int i = 1; i <= n; ++i) addFlippingCommands(rng, scene, i, rng.uniform(0.1, 0.5), seconds);
+}
+
+// A robot inside each goal and 1-3 in front of it, full voltage with
+// flipping signs; the ball in a goal or anywhere.
+void makeInGoal(Random& rng, StressScene& s, double seconds) {
+    Scene& scene = s.scene;
+    useOfficialField(rng, scene);
+    const FieldDimensions& d = scene.field.dimensions;
+    const double hx = 0.5 * d.length, g = 0.5 * d.goal_width;
+    scene.ball.x = 100.0;  // out of the way until the robots are placed
+    for (double sx : {-1.0, 1.0}) {
+        const Region goal{sx > 0 ? hx : -hx - d.goal_depth, sx > 0 ? hx + d.goal_depth : -hx, -g, g};
+        addRobot(rng, scene, RobotParams{}, goal, 0.001);
+        const Region front{sx > 0 ? hx - 0.3 : -hx, sx > 0 ? hx : -hx + 0.3, -g - 0.1, g + 0.1};
+        const int n = rng.integer(1, 3);
+        for (int i = 0; i < n; ++i) addRobot(rng, scene, RobotParams{}, front, 0.002);
+    }
+    for (int i = 0; i < static_cast<int>(scene.robots.size()); ++i) {
+        setRandomVelocity(rng, scene.robots[i].initial, 1.0, 10.0);
+        addFlippingCommands(rng, scene, i, rng.uniform(0.05, 0.5), seconds);
+    }
+    bool placed = false;
+    if (rng.coin()) {
+        const double sx = rng.coin() ? 1.0 : -1.0;
+        for (int attempt = 0; attempt < kPlacementAttempts && !placed; ++attempt) {
+            const double x = sx * rng.uniform(hx, hx + d.goal_depth), y = rng.uniform(-g, g);
+            if (ballFits(scene, x, y, 0.002)) scene.ball.x = x, scene.ball.y = y, placed = true;
+        }
+    }
+    if (!placed) placeBall(rng, scene, 0.002);
+    setBallVelocity(rng, scene, 3.0);
+}
+
 }  // namespace
 
 const char* sceneKindName(SceneKind kind) {
@@ -273,6 +404,9 @@ const char* sceneKindName(SceneKind kind) {
         case SceneKind::Alternating: return "alternating";
         case SceneKind::CornerShots: return "corners";
         case SceneKind::Extreme: return "extreme";
+        case SceneKind::GoalCorners: return "goal-corners";
+        case SceneKind::PostWedge: return "post-wedge";
+        case SceneKind::InGoal: return "in-goal";
     }
     return "?";
 }
@@ -291,6 +425,9 @@ StressScene makeStressScene(std::uint32_t seed, int number, double seconds) {
         case SceneKind::Alternating: makeAlternating(rng, s, seconds); break;
         case SceneKind::CornerShots: makeCornerShots(rng, s, seconds); break;
         case SceneKind::Extreme: makeExtreme(rng, s, seconds); break;
+        case SceneKind::GoalCorners: makeGoalCorners(rng, s, seconds); break;
+        case SceneKind::PostWedge: makePostWedge(rng, s, seconds); break;
+        case SceneKind::InGoal: makeInGoal(rng, s, seconds); break;
     }
     return s;
 }

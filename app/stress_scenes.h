@@ -18,8 +18,12 @@ enum class SceneKind {
     Alternating,  // robots spread over the field, voltages alternating +-e_max every 2-100 ms
     CornerShots,  // the ball fired at 5-10 m/s into a corner, robots near the corners
     Extreme,      // extreme but plausible robot and ball parameters: stiff, asymmetric, light, heavy
+    // On an official field (3 vs 3 or 5 vs 5, with goals and corner triangles):
+    GoalCorners,  // robots in the goals and against the corner triangles, full voltage, the ball fired into a goal
+    PostWedge,    // the ball against a goal post, a robot behind it pushing it into the post
+    InGoal,       // a robot inside each goal, others in front of it, full voltage
 };
-constexpr int kSceneKinds = 4;  // scene k has kind (k - 1) mod 4
+constexpr int kSceneKinds = 7;  // scene k has kind (k - 1) mod 7
 
 const char* sceneKindName(SceneKind kind);
 

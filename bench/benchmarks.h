@@ -2,8 +2,11 @@
 // short human summary to `log`.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
+
+#include "vssim/field.h"
 
 namespace vssim::bench {
 
@@ -11,6 +14,8 @@ struct Options {
     std::string sceneFile;  // the 3-vs-3 scene file
     std::string sceneDir;   // resources/scenes of the source tree
     bool quick = false;     // fewer configurations and repetitions (a smoke run)
+    // The 3-vs-3 scene's field replaced by this one (realtime); none: the scene's own.
+    std::optional<FieldType> field;
 };
 
 int workPrecision(const Options& options, std::ostream& out, std::ostream& log);

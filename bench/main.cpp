@@ -1,6 +1,7 @@
 // vssim_bench: runs the benchmarks of docs/performance.md and writes CSV.
 //
-//   vssim_bench [--quick] [--out DIR] [--scene FILE] [all|work-precision|realtime|scale|stability|serve]...
+//   vssim_bench [--quick] [--out DIR] [--scene FILE] [--field NAME]
+//               [all|work-precision|realtime|scale|stability|serve]...
 #include <QCoreApplication>
 #include <QDir>
 #include <cstdio>
@@ -30,6 +31,8 @@ const char* kHelp =
     "Options:\n"
     "  --out DIR      folder for the CSV files (default: bench-results), created if needed\n"
     "  --scene FILE   the 3-vs-3 scene (default: resources/scenes/kickoff_3v3.json of the source tree)\n"
+    "  --field NAME   realtime: run the 3-vs-3 scene on this field instead of its own: box (the\n"
+    "                 seed's 1.50 x 1.30 m box), vsss_3v3 or vsss_5v5 (official, with goals)\n"
     "  --quick        fewer configurations and single runs: a smoke test, not figures to quote\n"
     "  -h, --help     this help\n";
 
@@ -59,6 +62,18 @@ int main(int argc, char** argv) {
             options.quick = true;
         } else if ((a == "--out" || a == "--scene") && i + 1 < argc) {
             (a == "--out" ? outDir : options.sceneFile) = argv[++i];
+        } else if (a == "--field" && i + 1 < argc) {
+            const std::string name = argv[++i];
+            if (name == "box")
+                options.field = vssim::FieldType::Box;
+            else if (name == "vsss_3v3")
+                options.field = vssim::FieldType::Vsss3v3;
+            else if (name == "vsss_5v5")
+                options.field = vssim::FieldType::Vsss5v5;
+            else {
+                std::cerr << "vssim_bench: --field: box, vsss_3v3 or vsss_5v5, not \"" << name << "\"\n";
+                return 2;
+            }
         } else if (a == "all") {
             for (const auto& [name, bench] : benches) chosen.push_back(name);
         } else if (benches.count(a)) {

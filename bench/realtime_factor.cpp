@@ -39,6 +39,7 @@ int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log)
         log << "  " << scenario.name << ":\n";
         for (const Setting& s : settings) {
             Scene scene = scenario.scene;
+            if (options.field) scene.field = makeField(officialDimensions(*options.field));
             scene.simulation.integrator = s.integrator;
             scene.simulation.long_steps = s.longSteps;
             const std::int64_t end = Simulation::stepIndexAtOrAfter(duration, scene.simulation.dt);

@@ -182,31 +182,37 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
 
 namespace {
 
-// The ball against the chain of walls. On the floor: each wall whose nearest
-// point is within r_b, a corner of the chain counting for the wall that
-// starts there only (a ball on a post touches it once). Off the floor (it
-// tunnelled): one deep contact with the nearest wall, back towards the floor.
+bool contains(const std::array<int, 3>& walls, int w) {
+    return std::find(walls.begin(), walls.end(), w) != walls.end();
+}
+
+// The ball against the chain of walls (model.md §5: centre within r_b of the
+// wall). A wall whose line the centre is on the floor side of: the nearest
+// point of the segment, a post counting for the wall that starts there only
+// (a ball on a post touches it once). A wall whose line the centre is
+// behind (it tunnelled, or was pressed in by a robot): a deep contact along
+// the wall's normal, as in the seed's box, but only for the walls it is past
+// (wallsPast), since on a chain with goals the lines of the goal lines and
+// of the goals' side walls run over the floor.
 void appendBallWallContacts(const Field& field, const BallState& ball, double radius, std::vector<Contact>& contacts) {
     const Eigen::Vector2d c(ball.x, ball.y);
     if (clearOfWalls(field, c, radius)) return;
-    if (!onFloor(field, c)) {
-        const NearestWall nearest = nearestWall(field, c);
-        if (nearest.wall < 0) return;
-        Contact k;
-        k.a = {BodyKind::Ball, 0};
-        k.b = {BodyKind::Wall, nearest.wall};
-        k.normal = nearest.distance > 1e-12 ? Eigen::Vector2d((nearest.point - c) / nearest.distance)
-                                            : field.walls[nearest.wall].normal;
-        k.depth = radius + nearest.distance;
-        k.point = nearest.point;
-        contacts.push_back(k);
-        return;
-    }
+    std::array<int, 3> past{-1, -1, -1};
+    bool pastKnown = false;
     const int walls = static_cast<int>(field.walls.size());
     for (int w = 0; w < walls; ++w) {
         const Wall& wall = field.walls[w];
+        const double signedDistance = wallSignedDistance(wall, c);
+        if (signedDistance >= radius) continue;
+        if (signedDistance < 0.0) {
+            if (!pastKnown) past = wallsPast(field, c, c), pastKnown = true;
+            if (!contains(past, w)) continue;
+            if (auto k = ballWallContact(ball, radius, wall, w)) contacts.push_back(*k);
+            continue;
+        }
         const SegmentClosestPoint q = closestPointOnSegment(wall.a, wall.b, c);
-        if (q.distance >= radius || q.lambda >= 1.0) continue;
+        if (q.distance >= radius) continue;
+        if (q.lambda >= 1.0 && field.startsAtPost[(w + 1) % walls]) continue;  // the next wall's post
         Contact k;
         k.a = {BodyKind::Ball, 0};
         k.b = {BodyKind::Wall, w};
@@ -217,47 +223,108 @@ void appendBallWallContacts(const Field& field, const BallState& ball, double ra
     }
 }
 
-// A robot against the chain of walls: each vertex off the floor is past the
-// wall nearest to it (the paper's vertex test, model.md §5, with the wall
-// chosen by distance, so that a robot inside a goal is not also "past" the
-// goal line), and each post (a corner of the chain pointing into the floor)
-// inside the square pushes the robot back along the face nearest to it.
+// A robot against the solid corner behind a post: the quadrant beyond both
+// walls that meet there, a convex set like the square, so the separating-axis
+// test (model.md §5, "a robust implementation covers them") gives the least
+// push that clears it: along either wall's normal (the whole square back in
+// front of that wall's line) or along a face normal of the square that points
+// out of the corner (the post back onto that face). A vertex meeting the post
+// is then one contact, where the vertex test against one wall and a push of
+// the post along a face disagreed and could leave the robot in the corner.
+std::optional<Contact> robotPostContact(const Field& field, const RobotState& robot, int robotIndex,
+                                        const std::array<Eigen::Vector2d, 4>& vertices, int post) {
+    const int n = static_cast<int>(field.walls.size());
+    const Wall &in = field.walls[(post + n - 1) % n], &out = field.walls[post];
+    const Eigen::Vector2d& p = out.a;
+    // The corner is p + cone{back along `in`, on along `out`}.
+    const Eigen::Vector2d e1 = (in.a - in.b).normalized(), e2 = (out.b - out.a).normalized();
+    double depth = INFINITY;
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero(), point = p;
+    for (const Wall* w : {&in, &out}) {
+        // As the vertex test: the depth-weighted average of the vertices
+        // beyond the line is the point, so a face flat on it touches at its middle.
+        double deepest = 0.0, weight = 0.0;
+        Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
+        for (const Eigen::Vector2d& v : vertices) {
+            const double d = -wallSignedDistance(*w, v);
+            if (!(d > 0.0)) continue;
+            deepest = std::max(deepest, d);
+            weighted += d * v;
+            weight += d;
+        }
+        if (!(deepest > 0.0)) return std::nullopt;  // the square is in front of this wall: separated
+        if (deepest < depth) depth = deepest, normal = w->normal, point = weighted / weight;
+    }
+    const double c = std::cos(robot.theta), s = std::sin(robot.theta);
+    const Eigen::Vector2d axes[4] = {{c, s}, {-c, -s}, {-s, c}, {s, -c}};
+    for (const Eigen::Vector2d& u : axes) {
+        if (u.dot(e1) > 0.0 || u.dot(e2) > 0.0) continue;  // the corner reaches on without end along u
+        double lowest = INFINITY;
+        for (const Eigen::Vector2d& v : vertices) lowest = std::min(lowest, v.dot(u));
+        const double d = p.dot(u) - lowest;
+        if (!(d > 0.0)) return std::nullopt;              // the post is beyond that face: separated
+        if (d < depth) depth = d, normal = u, point = p;  // the post presses on the face
+    }
+    Contact k;
+    k.a = {BodyKind::Robot, robotIndex};
+    k.b = {BodyKind::Wall, post};
+    k.normal = normal;
+    k.depth = depth;
+    k.point = point;
+    return k;
+}
+
+// A robot against the chain of walls. The paper's vertex test (model.md §5):
+// each vertex is past the walls wallsPast finds (in the box, every wall whose
+// line it is beyond, as before). Near a post, the solid corner behind it is
+// tested as a whole instead (robotPostContact): when a vertex is in it or the
+// post is inside the square, which no vertex test sees (a face pressed
+// against a post).
 void appendRobotWallContacts(const Field& field, const RobotState& robot, double side, int robotIndex,
                              std::vector<Contact>& contacts) {
     const Eigen::Vector2d c = centre(robot);
     // Cheap rejection: nothing of the robot reaches past half a diagonal from its centre.
-    const double reach = boundingRadius(side);
-    if (clearOfWalls(field, c, reach)) return;
-    if (onFloor(field, c) && !wallWithin(field, c, reach)) return;
+    if (clearOfWalls(field, c, boundingRadius(side))) return;
     const auto vertices = robotVertices(robot, side);
-    std::array<int, 4> pastWall{-1, -1, -1, -1};
-    for (int j = 0; j < 4; ++j)
-        if (!onFloor(field, vertices[j])) pastWall[j] = nearestWall(field, vertices[j]).wall;
-    const int walls = static_cast<int>(field.walls.size());
-    for (int w = 0; w < walls; ++w) {
-        if (std::find(pastWall.begin(), pastWall.end(), w) == pastWall.end()) continue;
+    std::array<std::array<int, 3>, 4> past;
+    std::array<int, 12> touched;
+    std::array<int, 4> corners{-1, -1, -1, -1};  // the post whose corner each vertex is in
+    int count = 0;
+    for (int j = 0; j < 4; ++j) {
+        past[j] = {-1, -1, -1};
+        if (clearOfWalls(field, vertices[j], 0.0)) continue;
+        if (!field.posts.empty()) {
+            // A vertex in a post's corner while the centre is in front of
+            // both walls there: neither wall is the one it came through.
+            const int post = postCornerAt(field, vertices[j]);
+            const int walls = static_cast<int>(field.walls.size());
+            if (post >= 0 && wallSignedDistance(field.walls[post], c) > 0.0 &&
+                wallSignedDistance(field.walls[(post + walls - 1) % walls], c) > 0.0) {
+                corners[j] = post;
+                continue;
+            }
+        }
+        past[j] = wallsPast(field, vertices[j], c);
+        for (int w : past[j])
+            if (w >= 0 && std::find(touched.begin(), touched.begin() + count, w) == touched.begin() + count)
+                touched[count++] = w;
+    }
+    std::sort(touched.begin(), touched.begin() + count);  // contacts in wall order (deterministic)
+    for (int t = 0; t < count; ++t) {
+        const int w = touched[t];
         if (auto k = vertexWallContact(robot, side, robotIndex, field.walls[w], w,
-                                       [&pastWall, w](int j) { return pastWall[j] == w; }))
+                                       [&past, w](int j) { return contains(past[j], w); }))
             contacts.push_back(*k);
     }
+    if (field.posts.empty()) return;
     const double half = 0.5 * side;
-    for (std::size_t p = 0; p < field.posts.size(); ++p) {
-        const Eigen::Vector2d& post = field.posts[p];
-        const int w = field.postWalls[p];
-        if ((post - c).squaredNorm() > reach * reach) continue;  // out of the square's reach
-        const Eigen::Vector2d local = toRobotFrame(robot, post);
-        const double alongX = half - std::abs(local.x()), alongY = half - std::abs(local.y());
-        if (!(alongX > 0.0 && alongY > 0.0)) continue;  // the post is not inside the square
-        const bool xFace = alongX <= alongY;
-        const Eigen::Vector2d face = xFace ? Eigen::Vector2d(local.x() >= 0.0 ? 1.0 : -1.0, 0.0)
-                                           : Eigen::Vector2d(0.0, local.y() >= 0.0 ? 1.0 : -1.0);
-        Contact k;
-        k.a = {BodyKind::Robot, robotIndex};
-        k.b = {BodyKind::Wall, w};
-        k.normal = (c - fromRobotFrame(robot, face)).normalized();  // away from the face the post presses into
-        k.depth = xFace ? alongX : alongY;
-        k.point = post;
-        contacts.push_back(k);
+    const int walls = static_cast<int>(field.walls.size());
+    for (int w = 0; w < walls; ++w) {
+        if (!field.startsAtPost[w]) continue;
+        const Eigen::Vector2d local = toRobotFrame(robot, field.walls[w].a);
+        const bool postInside = std::abs(local.x()) < half && std::abs(local.y()) < half;
+        if (!postInside && std::find(corners.begin(), corners.end(), w) == corners.end()) continue;
+        if (auto k = robotPostContact(field, robot, robotIndex, vertices, w)) contacts.push_back(*k);
     }
 }
 

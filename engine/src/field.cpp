@@ -101,16 +101,20 @@ Field makeField(const FieldDimensions& dimensions) {
         field.walls.push_back({a, b, leftNormal(a, b)});
     }
     // A corner where the chain turns clockwise points into the floor.
+    field.startsAtPost.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         const V in = corners[i] - corners[(i + n - 1) % n];
         const V out = corners[(i + 1) % n] - corners[i];
         if (in.x() * out.y() - in.y() * out.x() < 0.0) {
             field.posts.push_back(corners[i]);
+            field.startsAtPost[i] = 1;                       // wall i starts at corner i
             field.postWalls.push_back(static_cast<int>(i));  // wall i runs from corner i
         }
     }
     field.lower = V(-hx - depth, -hy);
     field.upper = V(hx + depth, hy);
+    field.clearHalf = V(hx, hy);
+    field.clearDiagonal = hx + hy - c;
     return field;
 }
 
@@ -125,12 +129,87 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p) {
     NearestWall best;
     best.distance = INFINITY;
     for (std::size_t w = 0; w < field.walls.size(); ++w) {
-        const SegmentClosestPoint q = closestPointOnSegment(field.walls[w].a, field.walls[w].b, p);
+        const Wall& wall = field.walls[w];
+        // Skip a wall whose bounding box is already no nearer than the best:
+        // its distance cannot be smaller (the margin covers rounding), so
+        // the answer is the one the full test gives.
+        const double dx =
+            std::max({0.0, std::min(wall.a.x(), wall.b.x()) - p.x(), p.x() - std::max(wall.a.x(), wall.b.x())});
+        const double dy =
+            std::max({0.0, std::min(wall.a.y(), wall.b.y()) - p.y(), p.y() - std::max(wall.a.y(), wall.b.y())});
+        if (std::sqrt(dx * dx + dy * dy) * (1.0 - 1e-12) >= best.distance) continue;
+        const SegmentClosestPoint q = closestPointOnSegment(wall.a, wall.b, p);
         if (q.distance < best.distance) {
             best.wall = static_cast<int>(w);
             best.point = q.point;
             best.distance = q.distance;
         }
+    }
+    return best;
+}
+
+int postCornerAt(const Field& field, const Eigen::Vector2d& p) {
+    const int n = static_cast<int>(field.walls.size());
+    for (int out = 0; out < n; ++out) {
+        if (!field.startsAtPost[out]) continue;
+        const int in = (out + n - 1) % n;
+        const Wall &a = field.walls[in], &b = field.walls[out];
+        if (!(wallSignedDistance(a, p) < 0.0 && wallSignedDistance(b, p) < 0.0)) continue;
+        // Only near the post: the lines run on over the floor and the solid
+        // beyond it, so a point beyond both may be at the far end of a goal's
+        // side wall, in the back corner.
+        const double d = (p - b.a).squaredNorm();
+        if (d < (p - a.a).squaredNorm() && d < (p - b.b).squaredNorm()) return out;
+    }
+    return -1;
+}
+
+std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& from) {
+    std::array<int, 3> past{-1, -1, -1};
+    const int n = static_cast<int>(field.walls.size());
+    const NearestWall nearest = nearestWall(field, p);
+    if (nearest.wall < 0) return past;
+    const int w = nearest.wall, prev = (w + n - 1) % n, next = (w + 1) % n;
+    auto beyond = [&](int k) { return wallSignedDistance(field.walls[k], p) < 0.0; };
+    // Inside a post's solid corner, which a body enters through one wall or
+    // the other: the nearest wall would push a robot sliding along the goal
+    // line into the goal, or one inside the goal out through the post; the
+    // body's centre tells which way it came.
+    const int post = postCornerAt(field, p);
+    if (post >= 0) {
+        const int in = (post + n - 1) % n;
+        const bool fromIn = wallSignedDistance(field.walls[in], from) > 0.0;
+        const bool fromOut = wallSignedDistance(field.walls[post], from) > 0.0;
+        past[0] = fromIn && !fromOut ? in : fromOut && !fromIn ? post : w;
+        return past;
+    }
+    // Elsewhere (a corner of the chain pointing away from the floor: the
+    // box's corners, the corner triangles' ends, the back of the goal), p is
+    // past each wall whose line it is beyond, as in the paper's box; not
+    // across a post, whose neighbour's line runs over the floor.
+    const bool postAtA = field.startsAtPost[w] != 0, postAtB = field.startsAtPost[next] != 0;
+    int order[3] = {prev, w, next};
+    std::sort(order, order + 3);  // in increasing index order (prev is the highest when w is 0)
+    int count = 0;
+    for (int k : order) {
+        if ((k == prev && postAtA) || (k == next && postAtB)) continue;
+        if (beyond(k)) past[count++] = k;
+    }
+    return past;
+}
+
+double wallClearance(const Field& field, const Eigen::Vector2d& p) {
+    if (!clearOfWalls(field, p, 0.0) && !onFloor(field, p)) return -INFINITY;
+    double best = INFINITY;
+    for (const Wall& w : field.walls) {
+        const Eigen::Vector2d ab = w.b - w.a;
+        const double t = (p - w.a).dot(ab);
+        // The line distance where p projects onto the segment: written as
+        // the box's test always was, so the box's results do not change.
+        const double d = t >= 0.0 && t <= ab.squaredNorm()
+                             ? w.normal.x() * (p.x() - w.a.x()) + w.normal.y() * (p.y() - w.a.y())
+                             : (t < 0.0 ? p - w.a : p - w.b).norm();
+        best = std::min(best, d);
     }
     return best;
 }
@@ -143,17 +222,6 @@ bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach) {
         if (closestPointOnSegment(w.a, w.b, p).distance <= reach) return true;
     }
     return false;
-}
-
-bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double clearance) {
-    // The goals lie beyond the goal lines and the posts on them, so the
-    // rectangle between the goal lines bounds every wall but the corner
-    // triangles, whose long sides lie on |x| + |y| = hx + hy - leg.
-    const double hx = 0.5 * field.length, hy = 0.5 * field.width;
-    const double ax = std::abs(p.x()), ay = std::abs(p.y());
-    if (!(ax < hx - clearance && ay < hy - clearance)) return false;
-    const double leg = field.dimensions.corner_leg;
-    return !(leg > 0.0) || ax + ay < hx + hy - leg - std::sqrt(2.0) * clearance;
 }
 
 bool onFloor(const Field& field, const Eigen::Vector2d& p) {

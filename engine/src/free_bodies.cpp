@@ -52,17 +52,20 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     // Discs around the centres that hold each body at any heading, m.
     auto reach = [&model](std::size_t i) { return boundingRadius(model.sides[i]); };
     const Eigen::Vector2d ball(state.ball.x, state.ball.y);
-    // To touch a wall a body's centre must come within its reach of the
-    // wall's nearest point (posts included: they are the walls' ends); a
-    // centre off the floor is not free.
+    // To touch a wall a body's centre must come within its reach of a wall
+    // segment (posts included: they are the walls' ends); a centre off the
+    // floor is not free (wallClearance is -infinity there).
+    // clearOfWalls first: cheap, and where it clears a body (farther than
+    // reach + travel from every wall, by a margin far above rounding) the
+    // exact test would too, so the answer is the same, only sooner.
+    auto clearOfTheWalls = [&model](const Eigen::Vector2d& c, double reach, double travel) {
+        return clearOfWalls(model.field, c, reach + travel) || wallClearance(model.field, c) - reach > travel;
+    };
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
-        if (clearOfWalls(model.field, c, reach(i) + out.robotTravel[i])) continue;
-        if (!onFloor(model.field, c) || wallWithin(model.field, c, reach(i) + out.robotTravel[i])) out.robots[i] = 0;
+        if (!clearOfTheWalls(c, reach(i), out.robotTravel[i])) out.robots[i] = 0;
     }
-    if (!clearOfWalls(model.field, ball, model.ball.radius + out.ballTravel) &&
-        (!onFloor(model.field, ball) || wallWithin(model.field, ball, model.ball.radius + out.ballTravel)))
-        out.ball = false;
+    if (!clearOfTheWalls(ball, model.ball.radius, out.ballTravel)) out.ball = false;
     for (std::size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d c(state.robots[i].x, state.robots[i].y);
         if (!((c - ball).norm() - reach(i) - model.ball.radius > out.robotTravel[i] + out.ballTravel))

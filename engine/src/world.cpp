@@ -35,6 +35,12 @@ constexpr double kResolvedDepth = 1e-5;
 // Final passes against the walls only, which have infinite mass, so that no
 // body is left outside the field.
 constexpr int kContainmentPasses = 2;
+// More of them while a wall contact deeper than kContainmentTolerance is
+// left: a robot whose vertex meets a goal post is pushed by the post along
+// a face and by a wall along its normal, which two passes may not settle.
+// (In the box one pass settles the walls: the extra passes never run.)
+constexpr int kExtraContainmentPasses = 6;
+constexpr double kContainmentTolerance = 1e-12;  // m
 
 int substepsFor(const WorldModel& model, const WorldState& state, double h, const StepOptions& options) {
     const bool frozen = options.frozen && options.frozenRobotSpeed;
@@ -149,9 +155,14 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
             if (!(deepest > kSeparationTolerance)) break;
             for (const Contact& c : contacts) separateBodies(c, bodies);
         }
-        for (int pass = 0; touching && pass < kContainmentPasses; ++pass) {
+        for (int pass = 0; touching && pass < kContainmentPasses + kExtraContainmentPasses; ++pass) {
             std::vector<Contact> walls;
             appendWallContacts(model.field, view, walls);
+            if (pass >= kContainmentPasses) {
+                double deepest = 0.0;
+                for (const Contact& c : walls) deepest = std::max(deepest, c.depth);
+                if (!(deepest > kContainmentTolerance)) break;
+            }
             for (const Contact& c : walls) separateBodies(c, bodies);
         }
     }

@@ -15,6 +15,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <cmath>
 #include <vector>
 
 namespace vssim {
@@ -71,6 +73,14 @@ struct Field {
     std::vector<int> postWalls;  // the wall that starts at each post
     // The chain's bounding box: the floor including the goals, m.
     Eigen::Vector2d lower = Eigen::Vector2d::Zero(), upper = Eigen::Vector2d::Zero();
+    // For each wall, whether its first end (a) is a post: the walls on the
+    // two sides of a post meet at a corner pointing into the floor.
+    std::vector<char> startsAtPost;
+    // The floor no wall reaches: |x| < clearHalf.x(), |y| < clearHalf.y() and
+    // |x| + |y| < clearDiagonal (the playing rectangle minus the corner
+    // triangles; every wall lies on or outside its edge), m.
+    Eigen::Vector2d clearHalf = Eigen::Vector2d::Zero();
+    double clearDiagonal = 0.0;
 };
 
 // A field from its dimensions (which must pass checkFieldDimensions).
@@ -94,12 +104,44 @@ NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p);
 // <= reach), with the walls whose bounding boxes are out of reach skipped.
 bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach);
 
-// A quick, sufficient test that p is on the floor more than `clearance` (m)
-// from every wall and post: inside the rectangle between the goal lines
-// shrunk by it, and inside the corner triangles' lines by it. False does not
-// mean that p is near a wall; it lets the contact tests skip the walls for
-// the bodies in the open field.
-bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double clearance);
+// Whether a disc of radius r around p lies on the floor clear of every wall
+// by a margin (a cheap, conservative test: false near a wall even when the
+// disc does not touch it). Contact detection skips the bodies it clears.
+inline bool clearOfWalls(const Field& field, const Eigen::Vector2d& p, double r) {
+    // Every wall lies on the lines |x| = hx, |y| = hy or |x| + |y| = hx + hy - c,
+    // or beyond them, and the corner triangles' lines are sqrt2 r away when
+    // |x| + |y| is sqrt2 r short of them (1.5 r: rounding cannot matter). The
+    // margin keeps the test conservative against the rounding of the exact
+    // tests it lets the callers skip.
+    constexpr double kMargin = 1e-9;  // m
+    const double ax = std::abs(p.x()), ay = std::abs(p.y()), reach = r + kMargin;
+    return ax + reach < field.clearHalf.x() && ay + reach < field.clearHalf.y() &&
+           ax + ay + 1.5 * reach < field.clearDiagonal;
+}
+
+// The walls that a point off the floor is past (model.md §5, "a vertex
+// beyond a wall", on a chain of walls): the nearest wall and, across a
+// corner of the chain that is not a post, its neighbours, each only if p is
+// beyond its line. At a post, whose two walls' lines both extend over floor,
+// p is past one wall only: the one `from` (the body's centre) is in front of,
+// the other being the way the body did not come; the nearest when `from`
+// does not tell. Empty for a point on the floor. Up to three walls, in
+// increasing index order, -1 for none.
+std::array<int, 3> wallsPast(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& from);
+
+// The post whose solid corner p is in (beyond both walls that meet there,
+// and nearer the post than their other ends), as the index of the wall that
+// starts at it; -1 for none.
+int postCornerAt(const Field& field, const Eigen::Vector2d& p);
+
+// Signed distance from p to a wall's line, positive on the floor side, m.
+inline double wallSignedDistance(const Wall& w, const Eigen::Vector2d& p) { return w.normal.dot(p - w.a); }
+
+// The distance from p to the nearest wall, for a conservative test of how far
+// a body can go before touching one: the distance to each segment, measured
+// along the wall's normal where p projects onto the segment (negative behind
+// it), m. -infinity for a point off the floor.
+double wallClearance(const Field& field, const Eigen::Vector2d& p);
 
 // Whether a square robot of side `side` (m) centred at (x, y) with heading
 // theta (rad), or a disc of radius r, lies on the floor clear of every wall
