@@ -214,16 +214,6 @@ double wallClearance(const Field& field, const Eigen::Vector2d& p) {
     return best;
 }
 
-bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach) {
-    for (const Wall& w : field.walls) {
-        if (p.x() < std::min(w.a.x(), w.b.x()) - reach || p.x() > std::max(w.a.x(), w.b.x()) + reach ||
-            p.y() < std::min(w.a.y(), w.b.y()) - reach || p.y() > std::max(w.a.y(), w.b.y()) + reach)
-            continue;
-        if (closestPointOnSegment(w.a, w.b, p).distance <= reach) return true;
-    }
-    return false;
-}
-
 bool onFloor(const Field& field, const Eigen::Vector2d& p) {
     if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return false;
     if (clearOfWalls(field, p, 0.0)) return true;  // the open field: most points

@@ -100,9 +100,6 @@ struct NearestWall {
     double distance = 0.0;
 };
 NearestWall nearestWall(const Field& field, const Eigen::Vector2d& p);
-// Whether some wall comes within `reach` (m) of p (nearestWall(p).distance
-// <= reach), with the walls whose bounding boxes are out of reach skipped.
-bool wallWithin(const Field& field, const Eigen::Vector2d& p, double reach);
 
 // Whether a disc of radius r around p lies on the floor clear of every wall
 // by a margin (a cheap, conservative test: false near a wall even when the
