@@ -19,7 +19,7 @@ QString mainHelp() {
                "Usage:\n"
                "  vssim                 open the desktop app on the 3-vs-3 kick-off (without a display: the demo)\n"
                "  vssim gui [SCENE]     open the desktop app on a scene (vssim gui --help)\n"
-               "  vssim demo            run the built-in 3-vs-3 kick-off headless for 5 s and print a summary\n"
+               "  vssim demo            play the built-in 3-vs-3 kick-off headless for 10 s and print a summary\n"
                "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
                "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
                "                        (vssim serve --help; protocol: docs/protocol.md)\n"
@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
             const bool help = args[2] == "-h" || args[2] == "--help";
             (help ? QTextStream(stdout) : QTextStream(stderr))
                 << (help ? "" : QStringLiteral("vssim demo: unexpected argument \"%1\"\n").arg(args[2]))
-                << "Usage: vssim demo\n  Runs the built-in 3-vs-3 kick-off headless for 5 s and prints where "
+                << "Usage: vssim demo\n  Plays the built-in 3-vs-3 kick-off headless for 10 s and prints where "
                    "everything ended up.\n";
             return help ? 0 : 2;
         }

@@ -14,6 +14,7 @@
 #include "io/output_file.h"
 #include "io/scene_io.h"
 #include "realtime/simulation_fault.h"
+#include "vssim/game/match.h"
 #include "vssim/integrator.h"
 #include "vssim/robot_model.h"
 #include "vssim/world.h"
@@ -36,7 +37,8 @@ struct RunOptions {
     std::optional<double> sample;  // s
     std::optional<Integrator> integrator;
     std::optional<CollisionModel> collisionModel;
-    QString outPath;  // empty: stdout
+    std::optional<bool> referee;  // --referee on|off
+    QString outPath;              // empty: stdout
 };
 
 // Parses a finite number with a unit for the message; nullopt and *error set otherwise.
@@ -64,7 +66,8 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     const QCommandLineOption collision("collision-model", "paper or impulse (default: the scene's, paper).", "NAME");
     const QCommandLineOption sample("sample", "Time between CSV samples, s (default: dt).", "S");
     const QCommandLineOption out("out", "Write the CSV to FILE instead of standard output.", "FILE");
-    parser.addOptions({help, duration, dt, integrator, collision, sample, out});
+    const QCommandLineOption referee("referee", "on|off", "ON");
+    parser.addOptions({help, duration, dt, integrator, collision, sample, out, referee});
     parser.addPositionalArgument("scene", "Scene file (JSON) or built-in scene name.");
     if (!parser.parse(arguments)) {  // "run" plays the program name
         *error = parser.errorText();
@@ -127,6 +130,14 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
             return std::nullopt;
         }
     }
+    if (parser.isSet(referee)) {
+        const QString text = parser.value(referee);
+        if (text != "on" && text != "off") {
+            *error = QStringLiteral("--referee: expected on or off, got \"%1\"").arg(text);
+            return std::nullopt;
+        }
+        o.referee = text == "on";
+    }
     o.outPath = parser.value(out);
     if (parser.isSet(out) && o.outPath.isEmpty()) {
         *error = QStringLiteral("--out: expected a file name");
@@ -140,6 +151,13 @@ bool applyOptions(const RunOptions& o, Scene& scene, QString* error) {
     if (o.dt) scene.simulation.dt = *o.dt;
     if (o.integrator) scene.simulation.integrator = *o.integrator;
     if (o.collisionModel) scene.simulation.collision_model = *o.collisionModel;
+    if (o.referee) {
+        scene.game.rules.referee = *o.referee;
+        if (*o.referee && !fieldHasGoals(scene.field)) {
+            *error = QStringLiteral("--referee on: %1: %2").arg(o.scenePath, refereeFieldProblem());
+            return false;
+        }
+    }
     const double dt = scene.simulation.dt;
     if (o.sample && *o.sample < dt * (1.0 - 1e-9)) {
         *error = QStringLiteral("--sample: must be >= dt = %1 s (got %2 s)").arg(dt).arg(*o.sample);
@@ -212,6 +230,19 @@ private:
     QElapsedTimer clock_;
 };
 
+// One line on the game at the end of a run.
+QString gameSummary(const Match& match) {
+    const GameState& g = match.game();
+    return QStringLiteral("game: yellow %1 : %2 blue, %3 in half %4 at %5 s of game time, %6 call%7")
+        .arg(g.goals[0])
+        .arg(g.goals[1])
+        .arg(gamePhaseName(g.phase))
+        .arg(g.half)
+        .arg(g.clock, 0, 'f', 2)
+        .arg(g.calls.size())
+        .arg(g.calls.size() == 1 ? "" : "s");
+}
+
 }  // namespace
 
 QString runHelpText() {
@@ -232,6 +263,8 @@ QString runHelpText() {
                "                          away from contacts, steps straight to the next sample\n"
                "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
                "  --sample S              time between samples, s, >= dt (default: dt)\n"
+               "  --referee on|off        the scene's automatic referee on or off (docs/game.md; on needs a\n"
+               "                          field with goals); built-in teams play as the scene says\n"
                "  --out FILE              write the CSV to FILE; a regular file is replaced only when the\n"
                "                          run succeeds; a device, a FIFO or a file with other hard links\n"
                "                          is written in place; a symbolic link's target gets the CSV\n"
@@ -243,6 +276,8 @@ QString runHelpText() {
                "Samples fall on the first step boundary at or after each multiple of --sample, and the\n"
                "run ends on the first step boundary at or after --duration; its final state is always\n"
                "written.\n"
+               "A scene with a game (docs/game.md) is played: its referee and built-in teams act every\n"
+               "tick (game.tick, 10 ms), and the score goes to standard error at the end.\n"
                "The run stops when the state stops being finite (NaN or infinity), naming the time and\n"
                "the body; the rows before it are written.\n"
                "Exit status: 0 success, 2 bad option or scene or an output file that cannot be created,\n"
@@ -285,7 +320,10 @@ int runCommand(const QStringList& arguments) {
         }
     }
 
-    Simulation simulation(*scene);
+    // A Match: the scene's game if it has one (referee, built-in teams);
+    // otherwise exactly the Simulation.
+    Match match(*scene);
+    const Simulation& simulation = match.simulation();
     const double dt = simulation.dt();
     const std::int64_t lastStep = Simulation::stepIndexAtOrAfter(options->duration, dt);
     const double sample = options->sample.value_or(dt);
@@ -302,7 +340,7 @@ int runCommand(const QStringList& arguments) {
     // Stops at the first failed write (nothing more would get through) and
     // at the first non-finite state (nothing after it means anything).
     while (simulation.state().step < lastStep && csv.ok()) {
-        const AdvanceReport r = simulation.advanceTo(std::min(lastStep, nextSampleStep));
+        const AdvanceReport r = match.advanceTo(std::min(lastStep, nextSampleStep));
         contacts += r.contacts;
         stepCalls += r.stepCalls;
         longSteps += r.longSteps;
@@ -350,6 +388,7 @@ int runCommand(const QStringList& arguments) {
                  .arg(contacts == 1 ? "" : "s")
                  .arg(seconds, 0, 'g', 3)
                  .arg(simulation.state().time / std::max(seconds, 1e-9), 0, 'f', 0);
+    if (scene->game.rules.referee) err() << "vssim run: " << gameSummary(match) << "\n";
     return 0;
 }
 
@@ -360,12 +399,13 @@ int demoCommand() {
         err() << "vssim: " << error << "\n";
         return 1;
     }
-    Simulation simulation(*scene);
-    const double duration = 5.0;  // s
+    // The kick-off as a match: 4 s of STOP, then the built-in teams play.
+    Match match(*scene);
+    const Simulation& simulation = match.simulation();
+    const double duration = 10.0;  // s
     QElapsedTimer clock;
     clock.start();
-    std::int64_t contacts = 0;
-    while (simulation.state().time < duration - 0.5 * simulation.dt()) contacts += simulation.step().contacts;
+    const std::int64_t contacts = match.advanceTo(Simulation::stepIndexAtOrAfter(duration, simulation.dt())).contacts;
     const double seconds = std::max(1e-6, clock.nsecsElapsed() * 1e-9);
     QTextStream out(stdout);
     out << "vssim: built-in scene kickoff_3v3, " << duration << " s simulated in " << seconds * 1e3 << " ms ("
@@ -394,6 +434,7 @@ int demoCommand() {
                .arg(s.ball.y, 9, 'f', 4)
                .arg(std::atan2(s.ball.vy, s.ball.vx), 12, 'f', 4)
                .arg(std::hypot(s.ball.vx, s.ball.vy), 9, 'f', 4);
+    if (scene->game.rules.referee) out << "\n" << gameSummary(match) << "\n";
     out << "\nNext: " << QCoreApplication::arguments().value(0, "vssim")
         << " run kickoff_3v3 --duration 10 --out run.csv   (see --help)\n";
     return 0;

@@ -77,6 +77,7 @@ private slots:
     void outToStandardOutputByName();
     void stopsOnANonFiniteState();
     void sceneThatIsNotAFile();
+    void runPlaysTheScenesGame();
 };
 
 void TestCli::helpDescribesEveryOption() {
@@ -216,6 +217,10 @@ void TestCli::badInput_data() {
     QTest::newRow("bad value") << QStringList{"run", "%SCENE%", "--duration", "1"}
                                << "{\"robots\": [{\"params\": {\"right\": {\"resistance\": \"high\"}}}]}"
                                << "robots[0].params.right.resistance: expected a number";
+    QTest::newRow("bad referee") << QStringList{"run", ok, "--duration", "1", "--referee", "maybe"} << ""
+                                 << "--referee: expected on or off, got \"maybe\"";
+    QTest::newRow("referee on a box") << QStringList{"run", ok, "--duration", "1", "--referee", "on"} << ""
+                                      << "--referee on: ";
 }
 
 void TestCli::badInput() {
@@ -519,6 +524,29 @@ void TestCli::sceneThatIsNotAFile() {
     const Result missing = runVssim({"run", dir.filePath("nothing.json"), "--duration", "1"});
     QVERIFY2(missing.err.contains("nothing.json: no such file or built-in scene (built-in: ball_walls,"),
              missing.err.constData());
+}
+
+void TestCli::runPlaysTheScenesGame() {
+    // The kick-off is a match: after its 4 s STOP the built-in teams play,
+    // and the score and calls go to standard error.
+    const Result game = runVssim({"run", "kickoff_3v3", "--duration", "8", "--sample", "0.5"});
+    QCOMPARE(game.exitCode, 0);
+    QVERIFY2(game.err.contains("vssim run: game: yellow "), game.err.constData());
+    const QList<QByteArray> rows = game.out.trimmed().split('\n');
+    // yellow2 at t = 0 (placed for the kick-off) and at the end: it moved.
+    QByteArray first, last;
+    for (const QByteArray& row : rows)
+        if (row.contains(",yellow2,")) (first.isEmpty() ? first : last) = row;
+    QVERIFY(!first.isEmpty() && !last.isEmpty() && first.split(',')[2] != last.split(',')[2]);
+    // The same final state whatever the sampling (RK4: fixed steps; the game
+    // acts at its ticks only).
+    const Result coarse = runVssim({"run", "kickoff_3v3", "--duration", "8", "--sample", "2"});
+    const QList<QByteArray> coarseRows = coarse.out.trimmed().split('\n');
+    QCOMPARE(coarseRows.mid(coarseRows.size() - 7), rows.mid(rows.size() - 7));
+    // Without the referee: no game line.
+    const Result off = runVssim({"run", "kickoff_3v3", "--duration", "1", "--referee", "off"});
+    QCOMPARE(off.exitCode, 0);
+    QVERIFY(!off.err.contains("game:"));
 }
 
 QTEST_GUILESS_MAIN(TestCli)
