@@ -32,16 +32,21 @@ using namespace vssim;
 
 namespace {
 
-// The kick-off's bodies as plain physics: the built-in scene is a match of
-// the built-in team against itself, but here nothing moves unless the test
-// moves it (no referee, both teams remote, no commands).
-Scene kickoff() {
+// The built-in kick-off as it is: a match of the built-in team against itself.
+Scene kickoffMatch() {
     QString error;
     std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
     if (!scene) qFatal("%s", qPrintable(error));
-    scene->commands.clear();
-    scene->game = GameSettings{};
     return *scene;
+}
+
+// The kick-off's bodies as plain physics: nothing moves unless the test
+// moves it (no referee, both teams remote, no commands).
+Scene kickoff() {
+    Scene scene = kickoffMatch();
+    scene.commands.clear();
+    scene.game = GameSettings{};
+    return scene;
 }
 
 ServerSettings anyPort() {
@@ -229,11 +234,8 @@ private slots:
     }
 
     void theDefaultSceneIsAMatchAndTheKeyboardOverridesTheBuiltinTeam() {
-        // The built-in kick-off as it is: the referee and the built-in team on both sides.
-        QString error;
-        const std::optional<Scene> match = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
-        QVERIFY2(match, qPrintable(error));
-        MainWindow w(*match, ":/scenes/kickoff_3v3.json", anyPort());
+        // The referee and the built-in team on both sides.
+        MainWindow w(kickoffMatch(), ":/scenes/kickoff_3v3.json", anyPort());
         w.show();
         QVERIFY(QTest::qWaitForWindowExposed(&w));
         QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::Stop; }));
@@ -268,10 +270,7 @@ private slots:
     }
 
     void theGameDockRunsTheGame() {
-        QString error;
-        const std::optional<Scene> match = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
-        QVERIFY2(match, qPrintable(error));
-        MainWindow w(*match, ":/scenes/kickoff_3v3.json", anyPort());
+        MainWindow w(kickoffMatch(), ":/scenes/kickoff_3v3.json", anyPort());
         w.show();
         QVERIFY(QTest::qWaitForWindowExposed(&w));
         auto* board = w.findChild<Scoreboard*>();
