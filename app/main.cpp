@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gui_command.h"
+#include "match_command.h"
 #include "run_command.h"
 #include "serve_command.h"
 #include "stress_command.h"
@@ -23,6 +24,8 @@ QString mainHelp() {
                "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
                "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
                "                        (vssim serve --help; protocol: docs/protocol.md)\n"
+               "  vssim match [SCENE]   play a whole match headless: referee, built-in teams; prints the score\n"
+               "                        and the referee's calls (vssim match --help; docs/game.md)\n"
                "  vssim stress ...      numerical-stability stress test on random scenes (vssim stress --help)\n"
                "  vssim --help          this help\n"
                "  vssim --version       the version\n"
@@ -76,6 +79,7 @@ int main(int argc, char** argv) {
     const QString command = args[1];
     if (command == "run") return vssim::runCommand(args.mid(1));
     if (command == "serve") return vssim::serveCommand(args.mid(1));
+    if (command == "match") return vssim::matchCommand(args.mid(1));
     if (command == "stress") return vssim::stressCommand(args.mid(1));
     if (command == "-h" || command == "--help" || command == "help") {
         QTextStream(stdout) << mainHelp();

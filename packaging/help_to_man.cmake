@@ -65,7 +65,7 @@ the example scenes, also usable by name (kickoff_3v3, robot_hits_ball, ...)
 the documentation: docs/scenes.md (scene files), docs/protocol.md (the TCP protocol),
 docs/app.md (the desktop app), docs/model.md (the physical model)
 .SH SEE ALSO
-vssim(1), vssim\\-gui(1), vssim\\-run(1), vssim\\-serve(1), vssim\\-stress(1), vssim\\-demo(1)
+vssim(1), vssim\\-gui(1), vssim\\-run(1), vssim\\-serve(1), vssim\\-match(1), vssim\\-stress(1), vssim\\-demo(1)
 ")
 get_filename_component(_dir "${OUT}" DIRECTORY)
 file(MAKE_DIRECTORY "${_dir}")

@@ -77,12 +77,14 @@ for f in \
     usr/share/man/man1/vssim-gui.1.gz \
     usr/share/man/man1/vssim-run.1.gz \
     usr/share/man/man1/vssim-serve.1.gz \
+    usr/share/man/man1/vssim-match.1.gz \
     usr/share/man/man1/vssim-stress.1.gz \
     usr/share/man/man1/vssim-demo.1.gz \
     usr/share/doc/vssim/docs/protocol.md \
     usr/share/doc/vssim/docs/scenes.md \
     usr/share/doc/vssim/docs/model.md \
     usr/share/doc/vssim/docs/performance.md \
+    usr/share/doc/vssim/docs/game.md \
     usr/share/doc/vssim/docs/images/app.png \
     usr/share/doc/vssim/docs/performance/scale.png; do
     [ -f "$root/$f" ] || fail "not in the package: /$f"
@@ -111,7 +113,7 @@ grep -q '^ Permission is hereby granted, free of charge' "$root/usr/share/doc/vs
     || fail "copyright: the licence text is missing"
 
 # Man pages: one per command, from its --help, and each renders without warnings.
-for page in vssim vssim-gui vssim-run vssim-serve vssim-stress vssim-demo; do
+for page in vssim vssim-gui vssim-run vssim-serve vssim-match vssim-stress vssim-demo; do
     file="$root/usr/share/man/man1/$page.1.gz"
     title=$(echo "$page" | tr a-z A-Z)
     gzip -dc "$file" | grep -q "^\.TH $title 1 " || fail "$page.1.gz: no .TH $title 1 line"
@@ -122,6 +124,7 @@ for page in vssim vssim-gui vssim-run vssim-serve vssim-stress vssim-demo; do
     fi
 done
 gzip -dc "$root/usr/share/man/man1/vssim-run.1.gz" | grep -q -- '\\-\\-duration' || fail "vssim-run.1.gz: --duration is not documented"
+gzip -dc "$root/usr/share/man/man1/vssim-match.1.gz" | grep -q -- '\\-\\-seed' || fail "vssim-match.1.gz: --seed is not documented"
 step "copyright and man pages: OK"
 
 # The installed documentation speaks of the installed program, not of a build tree.
