@@ -96,6 +96,13 @@ struct Player {
         const double distance = d.norm();
         if (distance < 1e-9) return goTo(me(), target, kCruise);
         const Eigen::Vector2d u = d / distance;
+        // Pressed against a robot in the way: back off first.
+        for (std::size_t j = 0; j < state.robots.size(); ++j) {
+            if (j == self) continue;
+            const Eigen::Vector2d o = Eigen::Vector2d(state.robots[j].x, state.robots[j].y) - at();
+            if (o.dot(u) > 0.0 && o.norm() < 1.2 * side && o.normalized().dot(u) > 0.7)
+                return goTo(me(), at() - 0.1 * u, kCruise);
+        }
         double nearest = std::min(distance, kLookAhead);
         Eigen::Vector2d detour = target;
         for (std::size_t j = 0; j < state.robots.size(); ++j) {
@@ -153,6 +160,15 @@ struct Player {
         return goTo(me(), spot, kCruise);
     }
 
+    // Behind the ball on the own side, off its line to the own goal, ready
+    // for a rebound: the k-th supporter on alternating sides.
+    Eigen::Vector2d support(const BallState& ball, int k) const {
+        const double s = defendedSide(team);
+        const Eigen::Vector2d b(ball.x, ball.y);
+        const Eigen::Vector2d spot(b.x() + s * 0.25, b.y() + (k % 2 == 0 ? 0.2 : -0.2));
+        return travel(reachable(field, spot, side));
+    }
+
     Eigen::Vector2d defend(const BallState& ball) const {
         const double s = defendedSide(team);
         const Eigen::Vector2d goal = goalCentre(field, static_cast<int>(s));
@@ -162,9 +178,6 @@ struct Player {
         const double front = 0.5 * field.length - field.dimensions.goal_area_depth - 0.06;
         if (s * spot.x() > front && std::abs(spot.y()) < 0.5 * field.dimensions.goal_area_width + 0.06)
             spot.x() = s * front;
-        // The ball on our side and near me: clear it.
-        if (s * ball.x > 0.0 && (b - at()).norm() < 0.15 && !inGoalArea(field, static_cast<int>(s), b))
-            return attack(ball, goalCentre(field, -static_cast<int>(s)));
         return travel(reachable(field, spot, side));
     }
 };
@@ -181,24 +194,30 @@ Voltages voltagesFor(const RobotModel& robot, const RobotState& state, double v,
 
 void sparringVoltages(const WorldModel& model, const WorldState& state, const std::vector<Team>& teams,
                       const GameState& game, Team team, std::vector<Voltages>& voltages) {
-    const int keeper = goalkeeperOf(game, teams, team);
-    int order = 0;  // among the field players, in index order
+    const int keeper = hasGoals(model.field) ? goalkeeperOf(game, teams, team) : -1;
+    // The striker: the field player nearest to the ball (ties: the lowest
+    // index). Only it goes for the ball, so that teammates never fight over
+    // it; of the others the first defends and the rest support.
+    const Eigen::Vector2d ball(state.ball.x, state.ball.y);
+    int striker = -1;
+    double nearest = INFINITY;
+    for (std::size_t i = 0; i < teams.size(); ++i) {
+        if (teams[i] != team || static_cast<int>(i) == keeper) continue;
+        const double d = (Eigen::Vector2d(state.robots[i].x, state.robots[i].y) - ball).norm();
+        if (d < nearest) nearest = d, striker = static_cast<int>(i);
+    }
+    int others = 0;  // field players that are not the striker, in index order
     for (std::size_t i = 0; i < teams.size(); ++i) {
         if (teams[i] != team) continue;
-        const RobotState& r = state.robots[i];
         const Player player{model.field, state, i, model.sides[i], team};
         Eigen::Vector2d u;
-        if (static_cast<int>(i) == keeper && hasGoals(model.field)) {
+        if (static_cast<int>(i) == keeper)
             u = player.keepGoal(state.ball);
-        } else {
-            const int players = static_cast<int>(std::count(teams.begin(), teams.end(), team)) - (keeper >= 0 ? 1 : 0);
-            // With two or more field players the first defends.
-            const bool defends = players >= 2 && order == 0 && hasGoals(model.field);
-            u = defends ? player.defend(state.ball)
-                        : player.attack(state.ball, aimPoint(model.field, state, teams, team));
-            ++order;
-        }
-        voltages[i] = voltagesFor(model.robots[i], r, u(0), u(1));
+        else if (static_cast<int>(i) == striker)
+            u = player.attack(state.ball, aimPoint(model.field, state, teams, team));
+        else
+            u = others++ == 0 && hasGoals(model.field) ? player.defend(state.ball) : player.support(state.ball, others);
+        voltages[i] = voltagesFor(model.robots[i], state.robots[i], u(0), u(1));
     }
 }
 
