@@ -49,11 +49,10 @@ namespace {
 // gives the depth along the wall's normal, and the depth-weighted average the
 // contact point, so that a face lying flat on the wall touches at its middle.
 template <typename IsPast>
-std::optional<Contact> vertexWallContact(const RobotState& robot, double side, int robotIndex, const Wall& wall,
-                                         int wallIndex, IsPast isPast) {
+std::optional<Contact> vertexWallContact(const std::array<Eigen::Vector2d, 4>& vertices, int robotIndex,
+                                         const Wall& wall, int wallIndex, IsPast isPast) {
     double maxDepth = 0.0, weight = 0.0;
     Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
-    const auto vertices = robotVertices(robot, side);
     for (int j = 0; j < 4; ++j) {
         const Eigen::Vector2d& v = vertices[j];
         const double depth = -wall.normal.dot(v - wall.a);
@@ -79,7 +78,7 @@ std::optional<Contact> robotWallContact(const RobotState& robot, double side, in
     // more than half a diagonal inside it.
     if (wall.normal.dot(centre(robot) - wall.a) > boundingRadius(side)) return std::nullopt;
     if (!projectsOntoWall(wall, centre(robot), side)) return std::nullopt;
-    return vertexWallContact(robot, side, robotIndex, wall, wallIndex, [](int) { return true; });
+    return vertexWallContact(robotVertices(robot, side), robotIndex, wall, wallIndex, [](int) { return true; });
 }
 
 std::optional<Contact> robotBallContact(const RobotState& robot, double side, int robotIndex, const BallState& ball,
@@ -135,12 +134,19 @@ std::optional<Contact> robotRobotContact(const RobotState& a, double sideA, int 
     // The paper's test, both ways: vertices of one inside the other square.
     // The tolerance (the depth) keeps vertices of a face lying flat on the
     // other robot's face.
+    // (pointInRobot's test, with each heading's cosine and sine taken once.)
+    const double ca = std::cos(a.theta), sa = std::sin(a.theta), cb = std::cos(b.theta), sb = std::sin(b.theta);
+    auto inside = [](const RobotState& pose, double c, double s, double side, const Eigen::Vector2d& p, double margin) {
+        const Eigen::Vector2d d(p.x() - pose.x, p.y() - pose.y);
+        const double h = 0.5 * side + margin;
+        return std::abs(c * d.x() + s * d.y()) <= h && std::abs(-s * d.x() + c * d.y()) <= h;
+    };
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     int count = 0;
     for (const Eigen::Vector2d& v : robotVertices(a, sideA))
-        if (pointInRobot(b, sideB, v, 1e-9 + overlap.depth)) sum += v, ++count;
+        if (inside(b, cb, sb, sideB, v, 1e-9 + overlap.depth)) sum += v, ++count;
     for (const Eigen::Vector2d& v : robotVertices(b, sideB))
-        if (pointInRobot(a, sideA, v, 1e-9 + overlap.depth)) sum += v, ++count;
+        if (inside(a, ca, sa, sideA, v, 1e-9 + overlap.depth)) sum += v, ++count;
     if (count > 0) {
         k.point = sum / count;
     } else {
@@ -312,7 +318,7 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
     std::sort(touched.begin(), touched.begin() + count);  // contacts in wall order (deterministic)
     for (int t = 0; t < count; ++t) {
         const int w = touched[t];
-        if (auto k = vertexWallContact(robot, side, robotIndex, field.walls[w], w,
+        if (auto k = vertexWallContact(vertices, robotIndex, field.walls[w], w,
                                        [&past, w](int j) { return contains(past[j], w); }))
             contacts.push_back(*k);
     }
@@ -321,9 +327,12 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
     const int walls = static_cast<int>(field.walls.size());
     for (int w = 0; w < walls; ++w) {
         if (!field.startsAtPost[w]) continue;
+        const bool inCorner = std::find(corners.begin(), corners.end(), w) != corners.end();
+        // A post inside the square is within half a diagonal of its centre.
+        if (!inCorner && (field.walls[w].a - c).squaredNorm() > 0.5 * side * side) continue;
         const Eigen::Vector2d local = toRobotFrame(robot, field.walls[w].a);
         const bool postInside = std::abs(local.x()) < half && std::abs(local.y()) < half;
-        if (!postInside && std::find(corners.begin(), corners.end(), w) == corners.end()) continue;
+        if (!postInside && !inCorner) continue;
         if (auto k = robotPostContact(field, robot, robotIndex, vertices, w)) contacts.push_back(*k);
     }
 }
