@@ -135,7 +135,8 @@ std::optional<Contact> robotRobotContact(const RobotState& a, double sideA, int 
     // The tolerance (the depth) keeps vertices of a face lying flat on the
     // other robot's face.
     // (pointInRobot's test, with each heading's cosine and sine taken once.)
-    const double ca = std::cos(a.theta), sa = std::sin(a.theta), cb = std::cos(b.theta), sb = std::sin(b.theta);
+    const CosSin ra = cosSin(a.theta), rb = cosSin(b.theta);
+    const double ca = ra.c, sa = ra.s, cb = rb.c, sb = rb.s;
     auto inside = [](const RobotState& pose, double c, double s, double side, const Eigen::Vector2d& p, double margin) {
         const Eigen::Vector2d d(p.x() - pose.x, p.y() - pose.y);
         const double h = 0.5 * side + margin;
@@ -261,7 +262,8 @@ std::optional<Contact> robotPostContact(const Field& field, const RobotState& ro
         if (!(deepest > 0.0)) return std::nullopt;  // the square is in front of this wall: separated
         if (deepest < depth) depth = deepest, normal = w->normal, point = weighted / weight;
     }
-    const double c = std::cos(robot.theta), s = std::sin(robot.theta);
+    const CosSin r = cosSin(robot.theta);
+    const double c = r.c, s = r.s;
     const Eigen::Vector2d axes[4] = {{c, s}, {-c, -s}, {-s, c}, {s, -c}};
     for (const Eigen::Vector2d& u : axes) {
         if (u.dot(e1) > 0.0 || u.dot(e2) > 0.0) continue;  // the corner reaches on without end along u

@@ -3,11 +3,16 @@
 #include <cmath>
 #include <limits>
 
+#include "vssim/geometry.h"
+
 namespace vssim {
 
 namespace {
 
-Eigen::Vector2d heading(const RobotState& r) { return {std::cos(r.theta), std::sin(r.theta)}; }
+Eigen::Vector2d heading(const RobotState& r) {
+    const CosSin h = cosSin(r.theta);
+    return {h.c, h.s};
+}
 Eigen::Vector2d perp(const Eigen::Vector2d& d) { return {-d.y(), d.x()}; }  // z x d
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 

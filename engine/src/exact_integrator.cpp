@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vssim/geometry.h"
+
 namespace vssim {
 
 namespace {
@@ -113,7 +115,8 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
             double dx = 0.0, dy = 0.0;
             constexpr int mid = kGaussNodes / 2;
             const double midHeading = theta + panel.nodes[mid].Psi.row(1).dot(u) + nodeTurnInput[mid];
-            const double midCos = std::cos(midHeading), midSin = std::sin(midHeading);
+            const CosSin midRotation = cosSin(midHeading);
+            const double midCos = midRotation.c, midSin = midRotation.s;
             for (int i = 0; i < kGaussNodes; ++i) {
                 const double v = panel.nodes[i].Phi.row(0).dot(u) + nodeSpeedInput[i];
                 const double heading = theta + panel.nodes[i].Psi.row(1).dot(u) + nodeTurnInput[i];
@@ -127,7 +130,8 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
                     cosine = midCos * c - midSin * s;
                     sine = midSin * c + midCos * s;
                 } else {
-                    cosine = std::cos(heading), sine = std::sin(heading);
+                    const CosSin h = cosSin(heading);
+                    cosine = h.c, sine = h.s;
                 }
                 dx += panel.weights[i] * v * cosine;
                 dy += panel.weights[i] * v * sine;

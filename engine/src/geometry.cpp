@@ -7,7 +7,10 @@ namespace vssim {
 
 namespace {
 
-Eigen::Vector2d heading(double theta) { return {std::cos(theta), std::sin(theta)}; }
+Eigen::Vector2d heading(double theta) {
+    const CosSin r = cosSin(theta);
+    return {r.c, r.s};
+}
 
 // Half-extent of a square (half side h, axes u, u_perp) projected on a unit axis.
 double projectedHalfExtent(double half, const Eigen::Vector2d& u, const Eigen::Vector2d& axis) {
@@ -20,7 +23,8 @@ std::array<Eigen::Vector2d, 4> robotVertices(const RobotState& pose, double side
     // Vertex j at angle theta + 45deg + 90deg j: rotate (s/2)(1, 1) by theta,
     // then by quarter turns (one sin/cos pair instead of four).
     const double h = 0.5 * side;
-    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    const CosSin r = cosSin(pose.theta);
+    const double c = r.c, s = r.s;
     const Eigen::Vector2d first(h * (c - s), h * (s + c));  // (s/sqrt2)(cos, sin)(theta + 45deg)
     const Eigen::Vector2d centre(pose.x, pose.y);
     return {centre + first, centre + Eigen::Vector2d(-first.y(), first.x()), centre - first,
@@ -39,13 +43,15 @@ SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen:
 }
 
 Eigen::Vector2d toRobotFrame(const RobotState& pose, const Eigen::Vector2d& p) {
-    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    const CosSin r = cosSin(pose.theta);
+    const double c = r.c, s = r.s;
     const Eigen::Vector2d d(p.x() - pose.x, p.y() - pose.y);
     return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
 }
 
 Eigen::Vector2d fromRobotFrame(const RobotState& pose, const Eigen::Vector2d& local) {
-    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    const CosSin r = cosSin(pose.theta);
+    const double c = r.c, s = r.s;
     return {pose.x + c * local.x() - s * local.y(), pose.y + s * local.x() + c * local.y()};
 }
 

@@ -1,5 +1,7 @@
 #include "vssim/integrator.h"
 
+#include "vssim/geometry.h"
+
 #include "vssim/exact_integrator.h"
 
 #include <cmath>
@@ -24,8 +26,9 @@ void unpack(const RobotVector& q, RobotState& s) {
 // Right-hand side of eq. 8 for constant voltages.
 RobotVector robotRate(const RobotModel& model, const RobotVector& q, const Voltages& e) {
     const Eigen::Vector2d du = velocityDerivative(model, q.head<2>(), e);
+    const CosSin h = cosSin(q(4));
     RobotVector r;
-    r << du(0), du(1), q(0) * std::cos(q(4)), q(0) * std::sin(q(4)), q(1);
+    r << du(0), du(1), q(0) * h.c, q(0) * h.s, q(1);
     return r;
 }
 

@@ -10,6 +10,25 @@
 
 namespace vssim {
 
+// The cosine and sine of an angle (rad). With glibc, one sincos() call: it
+// gives exactly the values of std::cos and std::sin (checked on 2e7 random
+// angles), in about the time of one of them; headings are rotated at every
+// integration stage and contact test, so this is a good part of a step.
+struct CosSin {
+    double c = 1.0;
+    double s = 0.0;
+};
+inline CosSin cosSin(double angle) {
+    CosSin r;
+#if defined(__GLIBC__)
+    ::sincos(angle, &r.s, &r.c);
+#else
+    r.c = std::cos(angle);
+    r.s = std::sin(angle);
+#endif
+    return r;
+}
+
 // The radius of the disc around a robot's centre that holds the square at any
 // heading: half its diagonal, s / sqrt2, m (model.md §5).
 inline double boundingRadius(double side) { return side / std::sqrt(2.0); }
@@ -17,7 +36,8 @@ inline double boundingRadius(double side) { return side / std::sqrt(2.0); }
 // Half the side of the axis-aligned box around a robot of side `side` at
 // heading theta: (s/2)(|cos theta| + |sin theta|), m.
 inline double robotHalfExtent(double side, double theta) {
-    return 0.5 * side * (std::abs(std::cos(theta)) + std::abs(std::sin(theta)));
+    const CosSin r = cosSin(theta);
+    return 0.5 * side * (std::abs(r.c) + std::abs(r.s));
 }
 
 // Vertex j = 0..3 at (s/sqrt2)(cos, sin)(theta + 45deg + 90deg j) from the centre.
