@@ -61,11 +61,23 @@ struct Table {
         }
         state.ball = BallState{0.1, 0.1, 0.5, 0.0};
     }
-    // n ticks of the rules' tick; the first call made, if any.
+    // n ticks of the rules' tick, the ball moving by its velocity times the
+    // tick before each; the first call made, if any. (The referee judges the
+    // ball's speed by its displacement from the previous tick.)
     std::optional<RefereeCall> ticks(int n) {
-        for (int k = 0; k < n; ++k)
+        for (int k = 0; k < n; ++k) {
+            state.ball.x += state.ball.vx * rules.tick;
+            state.ball.y += state.ball.vy * rules.tick;
             if (auto c = refereeTick(rules, model, state, teams, rules.tick, game)) return c;
+        }
         return std::nullopt;
+    }
+    // Puts the ball somewhere and lets the referee see it there once (that
+    // tick, the ball arrived: it counts as moving).
+    void putBall(const BallState& ball) {
+        state.ball = BallState{ball.x, ball.y, 0.0, 0.0};
+        QVERIFY(!refereeTick(rules, model, state, teams, rules.tick, game));
+        state.ball = ball;
     }
 };
 
@@ -179,7 +191,7 @@ void TestGame::stuckBallTimerEdges() {
     QFETCH(double, x);
     QFETCH(double, y);
     Table t;
-    t.state.ball = BallState{x, y, 0.0, 0.0};
+    t.putBall(BallState{x, y, 0.0, 0.0});
     // 5 s at 0.01 s a tick: 499 ticks (4.99 s) is just under, the 500th just over.
     QVERIFY(!t.ticks(499));
     QCOMPARE(t.game.phase, GamePhase::GameOn);
@@ -193,12 +205,13 @@ void TestGame::stuckBallTimerEdges() {
 
 void TestGame::stuckBallSpeedEdge() {
     Table t;
-    // Just under 0.10 m/s counts as stuck...
-    t.state.ball = BallState{0.3, 0.2, 0.0999, 0.0};
-    QVERIFY(t.ticks(500));
+    // Rolling just under 0.10 m/s counts as stuck...
+    t.putBall(BallState{-0.3, 0.2, 0.0999, 0.0});
+    QVERIFY(!t.ticks(499));
+    QVERIFY(t.ticks(1));
     // ...just over does not, and moving again restarts the timer.
     Table u;
-    u.state.ball = BallState{0.3, 0.2, 0.1001, 0.0};
+    u.putBall(BallState{-0.3, 0.2, 0.1001, 0.0});
     QVERIFY(!u.ticks(1000));
     u.state.ball.vx = 0.0;
     QVERIFY(!u.ticks(400));
@@ -207,16 +220,24 @@ void TestGame::stuckBallSpeedEdge() {
     u.state.ball.vx = 0.0;
     QVERIFY(!u.ticks(499));
     QVERIFY(u.ticks(1));
+    // A ball rattling in a jam: a large velocity, going nowhere. Stuck.
+    Table w;
+    w.putBall(BallState{0.3, -0.2, 0.0, 0.0});
+    for (int k = 0; k < 499; ++k) {
+        w.state.ball.vx = k % 2 == 0 ? 0.8 : -0.8;  // what the contacts give it each tick
+        QVERIFY(!refereeTick(w.rules, w.model, w.state, w.teams, w.rules.tick, w.game));
+    }
+    QVERIFY(refereeTick(w.rules, w.model, w.state, w.teams, w.rules.tick, w.game));
 }
 
 void TestGame::ballStuckInGoalAreaIsAPenalty() {
     Table t;
-    t.state.ball = BallState{-kHx + 0.08, 0.1, 0.0, 0.0};  // in yellow's goal area
+    t.putBall(BallState{-kHx + 0.08, 0.1, 0.0, 0.0});  // in yellow's goal area
     const auto call = t.ticks(500);
     QVERIFY(call);
     QCOMPARE(call->call, Call::PenaltyKick);
     QCOMPARE(call->team, Team::Blue);
-    QCOMPARE(int(std::lround(call->clock * 100)), 500);
+    QCOMPARE(int(std::lround(call->clock * 100)), 501);  // the tick that saw it arrive, then 5 s
 }
 
 void TestGame::twoDefenders_data() {
@@ -233,11 +254,12 @@ void TestGame::twoDefenders() {
     QFETCH(bool, ballInArea);
     Table t;
     for (int i = 0; i < defenders; ++i) t.state.robots[i] = RobotState{-kHx + 0.06, -0.25 + 0.2 * i, 0.0, 0.0, 0.0};
-    // The ball keeps moving (no stuck ball), in the area or just outside it.
-    t.state.ball = BallState{ballInArea ? -kHx + 0.12 : -kHx + 0.2, 0.3, 0.0, 0.5};
+    // The ball in the area or just outside it (at rest: a stuck ball takes
+    // 5 s, longer than this test runs).
+    t.state.ball = BallState{ballInArea ? -kHx + 0.12 : -kHx + 0.2, 0.3, 0.0, 0.0};
     const bool foul = defenders >= 2 && ballInArea;
-    QVERIFY(!t.ticks(299));  // 2.99 s
-    const auto call = t.ticks(foul ? 1 : 400);
+    QVERIFY(!t.ticks(299));                     // 2.99 s
+    const auto call = t.ticks(foul ? 1 : 150);  // (4.49 s in all: short of a stuck ball's 5 s)
     QCOMPARE(bool(call), foul);
     if (!foul) return;
     QCOMPARE(call->call, Call::PenaltyKick);
@@ -250,7 +272,7 @@ void TestGame::twoAttackersGiveAGoalKick() {
     // Two blue robots in yellow's goal area (blue attacks x < 0) with the ball.
     t.state.robots[3] = RobotState{-kHx + 0.06, -0.2, 0.0, 0.0, 0.0};
     t.state.robots[4] = RobotState{-kHx + 0.06, 0.2, 0.0, 0.0, 0.0};
-    t.state.ball = BallState{-kHx + 0.12, 0.0, 0.0, 0.5};
+    t.state.ball = BallState{-kHx + 0.12, 0.0, 0.0, 0.0};  // at rest: stuck only after 5 s
     QVERIFY(!t.ticks(299));
     const auto call = t.ticks(1);
     QVERIFY(call);
@@ -296,7 +318,8 @@ void TestGame::clockStopsWhileStoppedAndHalvesEnd() {
     Table t;
     t.rules.half_duration = 2.0;
     t.rules.halves = 2;
-    t.state.ball.vx = 0.5;  // rolling: no stuck ball
+    t.rules.stuck_ball_time = 1e9;  // not under test here
+    t.state.ball.vx = 0.0;
     QVERIFY(!t.ticks(150));
     QCOMPARE(int(std::lround(t.game.clock * 100)), 150);
     makeCall(t.rules, t.game, Call::FreeBall, Team::Yellow, 1, 0.0, "test");

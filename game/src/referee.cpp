@@ -92,6 +92,7 @@ RefereeCall makeCall(const GameRules& rules, GameState& game, Call call, Team te
     game.phase = GamePhase::Stop;
     game.stopLeft = rules.stop_duration;
     game.ballStuckFor = 0.0;
+    game.lastBallKnown = false;
     game.crowdedDefenceFor = {};
     game.crowdedAttackFor = {};
     return c;
@@ -141,7 +142,12 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
             game.goalAreaTime[i] += elapsed;
 
     // A stuck ball: a free ball in its quadrant, or a penalty in a goal area.
-    game.ballStuckFor = std::hypot(ball.vx, ball.vy) < rules.stuck_ball_speed ? game.ballStuckFor + elapsed : 0.0;
+    // The ball's mean speed over the tick (from its displacement), m/s; the
+    // first tick after a placement has no previous position and counts as moving.
+    const double speed =
+        game.lastBallKnown ? std::hypot(ball.x - game.lastBallX, ball.y - game.lastBallY) / elapsed : INFINITY;
+    game.lastBallX = ball.x, game.lastBallY = ball.y, game.lastBallKnown = true;
+    game.ballStuckFor = speed < rules.stuck_ball_speed ? game.ballStuckFor + elapsed : 0.0;
     if (reached(game.ballStuckFor, rules.stuck_ball_time)) {
         for (Team defender : {Team::Yellow, Team::Blue})
             if (inGoalArea(field, static_cast<int>(defendedSide(defender)), ballAt))

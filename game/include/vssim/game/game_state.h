@@ -54,6 +54,12 @@ struct GameState {
     std::vector<RefereeCall> calls;  // every call of the match, in order
     // The rules' timers, s of game time.
     double ballStuckFor = 0.0;
+    // Where the ball was at the previous tick, m: its speed for the stuck-ball
+    // rule is its displacement over the tick, not its velocity, so that a
+    // ball rattling in a jam (velocity from every contact, going nowhere)
+    // counts as stuck.
+    double lastBallX = 0.0, lastBallY = 0.0;
+    bool lastBallKnown = false;
     std::array<double, 2> crowdedDefenceFor{};  // by defending team: two or more defenders in its area with the ball
     std::array<double, 2>
         crowdedAttackFor{};            // by attacking team: two or more attackers in the other area with the ball
