@@ -98,11 +98,11 @@ Scoreboard::Scoreboard(QWidget* parent) : QWidget(parent) {
     };
     referee->addWidget(callTeam_, 1, 0, 1, 4);
     addCall(tr("Kick-off"), "scoreboard.kickOff", Call::KickOff, 0, 2, 0, 2);
-    addCall(tr("Penalty"), "scoreboard.penalty", Call::PenaltyKick, 0, 2, 2, 1);
-    addCall(tr("Goal kick"), "scoreboard.goalKick", Call::GoalKick, 0, 2, 3, 1);
-    referee->addWidget(new QLabel(tr("Free ball in"), this), 3, 0, 1, 4);
+    addCall(tr("Penalty"), "scoreboard.penalty", Call::PenaltyKick, 0, 2, 2, 2);
+    addCall(tr("Goal kick"), "scoreboard.goalKick", Call::GoalKick, 0, 3, 0, 4);
+    referee->addWidget(new QLabel(tr("Free ball in"), this), 4, 0, 1, 4);
     for (int q = 1; q <= 4; ++q) {
-        addCall(tr("Q%1").arg(q), QByteArray("scoreboard.freeBall") + QByteArray::number(q), Call::FreeBall, q, 4,
+        addCall(tr("Q%1").arg(q), QByteArray("scoreboard.freeBall") + QByteArray::number(q), Call::FreeBall, q, 5,
                 q - 1, 1);
         callButtons_.back()->setToolTip(tr("Free ball in quadrant %1 (counter-clockwise from x > 0, y > 0)").arg(q));
     }
