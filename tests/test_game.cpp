@@ -215,10 +215,16 @@ void TestGame::stuckBallSpeedEdge() {
     QVERIFY(!u.ticks(1000));
     u.state.ball.vx = 0.0;
     QVERIFY(!u.ticks(400));
-    u.state.ball.vx = 0.2;  // rolls for a tick
-    QVERIFY(!u.ticks(1));
-    u.state.ball.vx = 0.0;
-    QVERIFY(!u.ticks(499));
+    // A nudge (2 mm in one tick) leaves the mean over the last half second
+    // under 0.10 m/s: still stuck, the timer runs on...
+    Table n = u;
+    n.state.ball.x += 0.002;
+    QVERIFY(!n.ticks(99));
+    QVERIFY(n.ticks(1));
+    // ...a kick (10 cm) counts as moving for the half second it stays in
+    // the window, and then the timer starts again.
+    u.state.ball.x += 0.1;
+    QVERIFY(!u.ticks(549));
     QVERIFY(u.ticks(1));
     // A ball rattling in a jam: a large velocity, going nowhere. Stuck.
     Table w;

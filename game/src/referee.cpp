@@ -1,5 +1,6 @@
 #include "vssim/game/referee.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vssim/game/pitch.h"
@@ -13,6 +14,9 @@ namespace {
 constexpr double kTimerSlack = 1e-9;
 
 bool reached(double timer, double limit) { return timer >= limit - kTimerSlack; }
+
+// The stuck-ball rule's speed is the ball's mean speed over this long (s).
+constexpr double kStuckWindow = 0.5;
 
 int robotsInArea(const WorldState& state, const Field& field, const std::vector<Team>& teams, Team team, int side) {
     int count = 0;
@@ -92,7 +96,7 @@ RefereeCall makeCall(const GameRules& rules, GameState& game, Call call, Team te
     game.phase = GamePhase::Stop;
     game.stopLeft = rules.stop_duration;
     game.ballStuckFor = 0.0;
-    game.lastBallKnown = false;
+    game.trailSize = 0;
     game.crowdedDefenceFor = {};
     game.crowdedAttackFor = {};
     return c;
@@ -142,11 +146,23 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
             game.goalAreaTime[i] += elapsed;
 
     // A stuck ball: a free ball in its quadrant, or a penalty in a goal area.
-    // The ball's mean speed over the tick (from its displacement), m/s; the
-    // first tick after a placement has no previous position and counts as moving.
-    const double speed =
-        game.lastBallKnown ? std::hypot(ball.x - game.lastBallX, ball.y - game.lastBallY) / elapsed : INFINITY;
-    game.lastBallX = ball.x, game.lastBallY = ball.y, game.lastBallKnown = true;
+    // The ball's mean speed over the last kStuckWindow (or since the last
+    // call, when that is shorter), from its displacement, m/s; the first
+    // tick after a call has nothing to compare with and counts as moving.
+    const std::size_t windowTicks = static_cast<std::size_t>(std::max(1.0, std::round(kStuckWindow / elapsed)));
+    if (game.ballTrail.size() != windowTicks) {
+        game.ballTrail.assign(windowTicks, {0.0, 0.0});
+        game.trailNext = game.trailSize = 0;
+    }
+    double speed = INFINITY;
+    if (game.trailSize > 0) {
+        const auto& [oldX, oldY] = game.ballTrail[(game.trailNext + windowTicks - game.trailSize) % windowTicks];
+        const double dx = ball.x - oldX, dy = ball.y - oldY;
+        speed = std::sqrt(dx * dx + dy * dy) / (static_cast<double>(game.trailSize) * elapsed);
+    }
+    game.ballTrail[game.trailNext] = {ball.x, ball.y};
+    game.trailNext = (game.trailNext + 1) % windowTicks;
+    game.trailSize = std::min(game.trailSize + 1, windowTicks);
     game.ballStuckFor = speed < rules.stuck_ball_speed ? game.ballStuckFor + elapsed : 0.0;
     if (reached(game.ballStuckFor, rules.stuck_ball_time)) {
         for (Team defender : {Team::Yellow, Team::Blue})

@@ -100,7 +100,8 @@ struct Player {
         for (std::size_t j = 0; j < state.robots.size(); ++j) {
             if (j == self) continue;
             const Eigen::Vector2d o = Eigen::Vector2d(state.robots[j].x, state.robots[j].y) - at();
-            if (o.dot(u) > 0.0 && o.norm() < 1.2 * side && o.normalized().dot(u) > 0.7)
+            const double ahead = o.dot(u), distance2 = o.squaredNorm();
+            if (ahead > 0.0 && distance2 < 1.44 * side * side && ahead > 0.7 * std::sqrt(distance2))
                 return goTo(me(), at() - 0.1 * u, kCruise);
         }
         double nearest = std::min(distance, kLookAhead);
@@ -126,7 +127,7 @@ struct Player {
         const double across = std::abs(toGoal.x() * fromMe.y() - toGoal.y() * fromMe.x());
         // Lined up behind the ball: drive through it.
         if (along > 0.0 && across < 0.03 &&
-            std::acos(std::clamp(fromMe.normalized().dot(toGoal), -1.0, 1.0)) < kLinedUp)
+            along > std::cos(kLinedUp) * fromMe.norm())  // within kLinedUp of the line to the goal
             return goTo(me(), b + 0.2 * toGoal, kCruise);
         // Otherwise go round to the spot behind it, keeping clear of the ball
         // when coming from the wrong side.

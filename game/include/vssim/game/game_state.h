@@ -8,7 +8,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vssim/scene.h"
@@ -54,12 +56,14 @@ struct GameState {
     std::vector<RefereeCall> calls;  // every call of the match, in order
     // The rules' timers, s of game time.
     double ballStuckFor = 0.0;
-    // Where the ball was at the previous tick, m: its speed for the stuck-ball
-    // rule is its displacement over the tick, not its velocity, so that a
-    // ball rattling in a jam (velocity from every contact, going nowhere)
-    // counts as stuck.
-    double lastBallX = 0.0, lastBallY = 0.0;
-    bool lastBallKnown = false;
+    // Where the ball was at each tick of the last half second (oldest
+    // first; emptied at each call), m: the stuck-ball rule takes the ball's
+    // speed as its mean over that window, from its displacement, so that a
+    // ball rattling in a jam or jerked along a wall in a scrum (velocity from
+    // every contact, going nowhere) counts as stuck.
+    std::vector<std::pair<double, double>> ballTrail;  // a ring of the window's length
+    std::size_t trailNext = 0;                         // where the next position goes
+    std::size_t trailSize = 0;                         // positions held (0 after a call)
     std::array<double, 2> crowdedDefenceFor{};  // by defending team: two or more defenders in its area with the ball
     std::array<double, 2>
         crowdedAttackFor{};            // by attacking team: two or more attackers in the other area with the ball
