@@ -107,8 +107,7 @@ Field makeField(const FieldDimensions& dimensions) {
         const V out = corners[(i + 1) % n] - corners[i];
         if (in.x() * out.y() - in.y() * out.x() < 0.0) {
             field.posts.push_back(corners[i]);
-            field.startsAtPost[i] = 1;                       // wall i starts at corner i
-            field.postWalls.push_back(static_cast<int>(i));  // wall i runs from corner i
+            field.startsAtPost[i] = 1;  // wall i starts at corner i
         }
     }
     field.lower = V(-hx - depth, -hy);

@@ -23,9 +23,6 @@ constexpr double kFreeBallSlack = 0.01;  // m a robot may stand inside free_ball
 // The heading that faces the goal a team attacks.
 double facingAttack(Team team) { return defendedSide(team) < 0.0 ? 0.0 : kPi; }
 
-// Which part of the field a robot may be put in.
-enum class Region { OwnHalf, OwnHalfOutsideCircle, HalfAwayFrom, Anywhere };
-
 struct Placer {
     const WorldModel& model;
     const std::vector<Team>& teams;

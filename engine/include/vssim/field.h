@@ -70,7 +70,6 @@ struct Field {
     // Corners of the chain that point into the field (the goal posts), m:
     // bodies can touch them with a face, not only a wall with a vertex.
     std::vector<Eigen::Vector2d> posts;
-    std::vector<int> postWalls;  // the wall that starts at each post
     // The chain's bounding box: the floor including the goals, m.
     Eigen::Vector2d lower = Eigen::Vector2d::Zero(), upper = Eigen::Vector2d::Zero();
     // For each wall, whether its first end (a) is a post: the walls on the
