@@ -1,8 +1,8 @@
 #include "match_command.h"
 
-#include <unistd.h>
+#include "progress_line.h"
+
 #include <QCommandLineParser>
-#include <QElapsedTimer>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -290,34 +290,16 @@ QByteArray jsonReport(const MatchOptions& o, const Match& match, const Hashes& h
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 
-class Progress {
-public:
-    Progress() : enabled_(isatty(STDERR_FILENO)) { clock_.start(); }
-    void update(const Match& match) {
-        if (!enabled_ || clock_.elapsed() < nextMs_) return;
-        nextMs_ = clock_.elapsed() + 500;
-        const GameState& g = match.game();
-        err() << QStringLiteral("\rvssim match: half %1, %2 of %3 s, yellow %4 - %5 blue ")
-                     .arg(g.half)
-                     .arg(g.clock, 0, 'f', 0)
-                     .arg(match.scene().game.rules.half_duration)
-                     .arg(g.goals[0])
-                     .arg(g.goals[1])
-              << Qt::flush;
-        shown_ = true;
-    }
-    void done() {
-        if (shown_) err() << "\r" << QString(60, ' ') << "\r" << Qt::flush;
-        shown_ = false;
-    }
-    double elapsedSeconds() const { return static_cast<double>(clock_.nsecsElapsed()) * 1e-9; }
-
-private:
-    bool enabled_;
-    bool shown_ = false;
-    qint64 nextMs_ = 1000;
-    QElapsedTimer clock_;
-};
+// The progress line's text: where the match is.
+QString progressText(const Match& match) {
+    const GameState& g = match.game();
+    return QStringLiteral("vssim match: half %1, %2 of %3 s, yellow %4 - %5 blue")
+        .arg(g.half)
+        .arg(g.clock, 0, 'f', 0)
+        .arg(match.scene().game.rules.half_duration)
+        .arg(g.goals[0])
+        .arg(g.goals[1]);
+}
 
 }  // namespace
 
@@ -392,25 +374,20 @@ int matchCommand(const QStringList& arguments) {
         err() << "vssim match: " << error << "\n";
         return 2;
     }
-    std::unique_ptr<OutputFile> out;
-    if (options->outPath.isEmpty()) {
-        out = OutputFile::standardOutput();
-    } else {
-        out = OutputFile::open(options->outPath, &error);
-        if (!out) {
-            err() << "vssim match: cannot write " << error << "\n";
-            return 2;
-        }
+    const std::unique_ptr<OutputFile> out = OutputFile::openOrStandardOutput(options->outPath, &error);
+    if (!out) {
+        err() << "vssim match: cannot write " << error << "\n";
+        return 2;
     }
 
     Match match(*scene, options->seed);
-    Progress progress;
+    ProgressLine progress(err());
     MatchHash matchHash;
     const bool finished = playToFullTime(match, matchTimeLimit(scene->game.rules), [&] {
         matchHash.add(match.simulation().state());
-        progress.update(match);
+        if (progress.due()) progress.show(progressText(match));
     });
-    progress.done();
+    progress.clear();
     if (!finished) {
         if (const auto fault = findSimulationFault(match.simulation()))
             err() << "vssim match: stopped: " << fault->message() << "\n";

@@ -1,6 +1,7 @@
 #include "run_command.h"
 
-#include <unistd.h>
+#include "progress_line.h"
+
 #include <QCommandLineParser>
 #include <QCoreApplication>
 #include <QElapsedTimer>
@@ -208,28 +209,6 @@ QStringList stabilityWarnings(const Scene& scene) {
     return warnings;
 }
 
-class ProgressReporter {
-public:
-    explicit ProgressReporter(std::int64_t total) : total_(total), enabled_(isatty(STDERR_FILENO)) { clock_.start(); }
-    void update(std::int64_t done) {
-        if (!enabled_ || clock_.elapsed() < nextMs_) return;
-        nextMs_ = clock_.elapsed() + 500;
-        err() << QStringLiteral("\rvssim run: %1%").arg(100.0 * done / total_, 0, 'f', 1) << Qt::flush;
-        shown_ = true;
-    }
-    void done() {
-        if (shown_) err() << "\r" << QString(24, ' ') << "\r" << Qt::flush;
-    }
-    double elapsedSeconds() const { return static_cast<double>(clock_.nsecsElapsed()) * 1e-9; }
-
-private:
-    std::int64_t total_;
-    bool enabled_;
-    bool shown_ = false;
-    qint64 nextMs_ = 1000;
-    QElapsedTimer clock_;
-};
-
 // One line on the game at the end of a run.
 QString gameSummary(const Match& match) {
     const GameState& g = match.game();
@@ -309,15 +288,10 @@ int runCommand(const QStringList& arguments) {
     }
     for (const QString& warning : stabilityWarnings(*scene)) err() << "vssim run: " << warning << "\n";
 
-    std::unique_ptr<OutputFile> out;
-    if (options->outPath.isEmpty()) {
-        out = OutputFile::standardOutput();
-    } else {
-        out = OutputFile::open(options->outPath, &error);
-        if (!out) {
-            err() << "vssim run: cannot write " << error << "\n";
-            return 2;
-        }
+    const std::unique_ptr<OutputFile> out = OutputFile::openOrStandardOutput(options->outPath, &error);
+    if (!out) {
+        err() << "vssim run: cannot write " << error << "\n";
+        return 2;
     }
 
     // A Match: the scene's game if it has one (referee, built-in teams);
@@ -336,7 +310,7 @@ int runCommand(const QStringList& arguments) {
     std::int64_t nextSampleStep = Simulation::stepIndexAtOrAfter(sample, dt);
     std::int64_t contacts = 0, stepCalls = 0, longSteps = 0;
     std::int64_t lastWritten = 0;  // step of the last sample written
-    ProgressReporter progress(lastStep);
+    ProgressLine progress(err());
     // Stops at the first failed write (nothing more would get through) and
     // at the first non-finite state (nothing after it means anything).
     while (simulation.state().step < lastStep && csv.ok()) {
@@ -354,10 +328,11 @@ int runCommand(const QStringList& arguments) {
             nextSampleStep = std::max(simulation.state().step + 1,
                                       Simulation::stepIndexAtOrAfter(static_cast<double>(sampleIndex) * sample, dt));
         }
-        progress.update(simulation.state().step);
+        if (progress.due())
+            progress.show(QStringLiteral("vssim run: %1%").arg(100.0 * simulation.state().step / lastStep, 0, 'f', 1));
     }
     if (!fault && lastWritten != simulation.state().step) csv.writeSample(simulation);  // the final state, always
-    progress.done();
+    progress.clear();
     if (fault) {
         // The rows up to the last finite sample are written (a file named by
         // --out, though, only where it is written in place: see OutputFile).

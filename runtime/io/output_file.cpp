@@ -48,6 +48,10 @@ std::unique_ptr<OutputFile> OutputFile::standardOutput() {
     return std::unique_ptr<OutputFile>(new OutputFile(STDOUT_FILENO, false, QStringLiteral("standard output")));
 }
 
+std::unique_ptr<OutputFile> OutputFile::openOrStandardOutput(const QString& path, QString* error) {
+    return path.isEmpty() ? standardOutput() : open(path, error);
+}
+
 std::unique_ptr<OutputFile> OutputFile::open(const QString& path, QString* error) {
     auto fail = [&](int errorNumber, const QString& what = {}) {
         *error = QStringLiteral("%1: %2%3").arg(path, what, reason(errorNumber));

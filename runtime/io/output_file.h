@@ -29,6 +29,8 @@ public:
     // Opens `path` as described above; nullptr and *error (the path and the
     // reason) when it cannot. A FIFO's open waits for a reader.
     static std::unique_ptr<OutputFile> open(const QString& path, QString* error);
+    // A command's --out: open(path), or standard output when `path` is empty.
+    static std::unique_ptr<OutputFile> openOrStandardOutput(const QString& path, QString* error);
     // Removes the temporary file when commit() did not succeed.
     ~OutputFile();
     OutputFile(const OutputFile&) = delete;
