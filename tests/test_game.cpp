@@ -119,6 +119,7 @@ private slots:
     void ballOffAPostIsNoGoal();
     void remoteVoltagesHeldWhileStopped();
     void teamPlacementDuringStop();
+    void aPersonOverridesAnyTeam();
     void matchWithoutGameIsThePlainSimulation();
     void matchIsDeterministicAndCutFree();
     void builtinTeamScoresAgainstIdle();
@@ -516,6 +517,37 @@ void TestGame::remoteVoltagesHeldWhileStopped() {
     QCOMPARE(Eigen::Vector2d(match.simulation().state().ball.x, match.simulation().state().ball.y),
              freeBallMark(match.simulation().model().field, 3));
     QVERIFY(!match.call(Call::FreeBall, Team::Yellow, 7));  // no such quadrant
+}
+
+void TestGame::aPersonOverridesAnyTeam() {
+    Match match(gameScene(TeamControl::Builtin, TeamControl::Remote));
+    const Voltages hand{3.0, -2.0};
+    match.overrideVoltages(1, hand);  // a built-in robot, during the opening stop: 0 V
+    QCOMPARE(match.simulation().state().voltages[1].right, 0.0);
+    match.advanceTo(4000);  // game on: the person's, tick after tick, not the team's
+    QCOMPARE(match.game().phase, GamePhase::GameOn);
+    for (int k = 0; k < 5; ++k) {
+        match.advanceTo(match.simulation().state().step + match.tickSteps());
+        QCOMPARE(match.simulation().state().voltages[1].right, hand.right);
+        QCOMPARE(match.simulation().state().voltages[1].left, hand.left);
+    }
+    // A remote robot: TCP voltages are kept, not applied, while a person has it.
+    match.overrideVoltages(4, hand);
+    match.setVoltages(4, {5.0, 5.0});
+    QCOMPARE(match.simulation().state().voltages[4].right, hand.right);
+    match.overrideVoltages(4, std::nullopt);  // back: its last TCP voltages at once
+    QCOMPARE(match.simulation().state().voltages[4].right, 5.0);
+    // The built-in robot back: 0 V until its team's next tick, then the team's.
+    match.overrideVoltages(1, std::nullopt);
+    QCOMPARE(match.simulation().state().voltages[1].right, 0.0);
+    match.advanceTo((match.simulation().state().step / match.tickSteps() + 1) * match.tickSteps());
+    QVERIFY(match.simulation().state().voltages[1].right != hand.right);
+    // Halted: the person's robot too.
+    match.overrideVoltages(2, hand);
+    match.halt();
+    QCOMPARE(match.simulation().state().voltages[2].right, 0.0);
+    match.resume();
+    QCOMPARE(match.simulation().state().voltages[2].right, hand.right);
 }
 
 void TestGame::teamPlacementDuringStop() {

@@ -19,6 +19,7 @@ Match::Match(const Scene& scene, std::uint64_t seed)
       jitter_(seed != 0) {
     for (const RobotSpec& r : scene.robots) names_.push_back(r.name);
     remote_.assign(scene.robots.size(), {});
+    override_.assign(scene.robots.size(), std::nullopt);
     tickSteps_ = std::max<std::int64_t>(1, std::llround(rules_.tick / sim_.dt()));
     ticking_ = rules_.referee || yellow_ != TeamControl::Remote || blue_ != TeamControl::Remote;
     if (rules_.referee) placeFor(game_.last);
@@ -97,12 +98,27 @@ void Match::applyVoltages() {
                     if (teams_[i] == team) wanted_[i] = remote_[i];
         }
     }
+    for (std::size_t i = 0; i < n; ++i)
+        if (override_[i]) wanted_[i] = playing() ? *override_[i] : Voltages{};
     for (std::size_t i = 0; i < n; ++i) sim_.setVoltages(static_cast<int>(i), wanted_[i]);
+}
+
+void Match::overrideVoltages(int robot, const std::optional<Voltages>& e) {
+    if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
+    if (!e && !override_[robot]) return;  // not overridden: nothing changes
+    override_[robot] = e;
+    Voltages now;  // 0 V: stopped, or a built-in or idle team's until its next tick
+    if (e)
+        now = !ticking_ || playing() ? *e : Voltages{};
+    else if (!ticking_ || (playing() && control(teams_[robot]) == TeamControl::Remote))
+        now = remote_[robot];
+    sim_.setVoltages(robot, now);
 }
 
 void Match::setVoltages(int robot, const Voltages& e) {
     if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
     remote_[robot] = e;
+    if (override_[robot]) return;  // a person has it
     if (!ticking_) {
         sim_.setVoltages(robot, e);
         return;

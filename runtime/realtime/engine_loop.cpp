@@ -50,29 +50,12 @@ void EngineLoop::start(std::int64_t nowNs) {
     emitInstant(nowNs);
 }
 
-void EngineLoop::advanceMatch(std::int64_t target) {
-    bool manual = false;
-    for (const RobotControl& c : control_) manual = manual || c.controller == RobotController::Manual;
-    if (!manual || !match_->ticking()) {
-        match_->advanceTo(target);
-        return;
-    }
-    const std::int64_t tick = match_->tickSteps();
-    while (simulation().state().step < target) {
-        match_->advanceTo(std::min(target, (simulation().state().step / tick + 1) * tick));
-        applyManual();
-        if (firstNonFiniteBody(simulation().state()) >= 0) return;  // the caller halts
-    }
-}
-
 void EngineLoop::applyManual() {
-    const bool on = !match_->ticking() || match_->game().phase == GamePhase::GameOn;
-    // The Match sets every robot's voltages at each tick and has no override
-    // of its own: the person's are set on its simulation right after.
-    auto& sim = const_cast<Simulation&>(match_->simulation());
+    // The Match holds a person's voltages against its teams' (Match::overrideVoltages).
     for (std::size_t i = 0; i < control_.size(); ++i)
-        if (control_[i].controller == RobotController::Manual)
-            sim.setVoltages(static_cast<int>(i), on ? control_[i].manual : Voltages{});
+        match_->overrideVoltages(static_cast<int>(i), control_[i].controller == RobotController::Manual
+                                                          ? std::optional<Voltages>(control_[i].manual)
+                                                          : std::nullopt);
 }
 
 void EngineLoop::tellGame(std::int64_t nowNs, bool force) {
@@ -137,13 +120,13 @@ bool EngineLoop::stillHalted() {
 
 bool EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
     while (nextFrameStep_ <= target) {
-        advanceMatch(nextFrameStep_);
+        match_->advanceTo(nextFrameStep_);
         if (halt(nowNs)) return false;  // no camera instant of a non-finite state
         ++frame_;
         nextFrameStep_ += frameSteps_;
         emitInstant(nowNs);
     }
-    advanceMatch(target);
+    match_->advanceTo(target);
     return !halt(nowNs);
 }
 
@@ -234,9 +217,8 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 c.manual = Voltages{};
                 // A remote team's robot: its last TCP voltages now; a built-in
                 // team's: its team's from the next tick (0 V until then).
-                auto& sim = const_cast<Simulation&>(match_->simulation());
-                sim.setVoltages(r.robot, Voltages{});
                 match_->setVoltages(r.robot, c.client >= 0 ? c.lastTcp : Voltages{});
+                match_->overrideVoltages(r.robot, std::nullopt);
                 c.tcpWhileManual = false;
             }
             break;
@@ -276,7 +258,6 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             if (!needsReferee(r)) return;
             if (!match_->call(r.call, r.team, r.quadrant))
                 return replyTo(r, "malformed", "a free ball needs a quadrant from 1 to 4");
-            applyManual();
             tellGame(nowNs);
             break;
         case Kind::HaltGame:
@@ -288,7 +269,6 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 match_->halt();
             else
                 match_->resume();
-            applyManual();
             tellGame(nowNs);
             break;
         case Kind::Placement: {
@@ -318,7 +298,6 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 const std::int64_t tick = match_->tickSteps();
                 nextFrameStep_ = (nextFrameStep_ + tick - 1) / tick * tick;
             }
-            applyManual();
             break;
         case Kind::Pause: paused_ = true; break;
         case Kind::Resume:
@@ -339,7 +318,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 const std::int64_t tick = match_->tickSteps();
                 target = (target + tick - 1) / tick * tick;
             }
-            advanceMatch(target);
+            match_->advanceTo(target);
             if (halt(nowNs)) return replyTo(r, "non_finite", haltedMessage());
             ++frame_;
             nextFrameStep_ = simulation().state().step + frameSteps_;

@@ -183,10 +183,9 @@ private:
     void newMatch(const Scene& scene);
     // The camera period in whole steps, and whole game ticks while the Match ticks.
     void updateFrameSteps();
-    // Advances the Match to step `target`, a tick at a time while a person
-    // overrides a robot (their voltages again after each tick).
-    void advanceMatch(std::int64_t target);
-    // The person's voltages on the robots under manual control (0 V while the game is stopped).
+    // Hands the Match the person's voltages for the robots under manual
+    // control (Match::overrideVoltages; 0 V while the game is stopped), after
+    // a new Match or a change of who drives.
     void applyManual();
     // Tells the sink when the game's state changed (or always, `force`).
     void tellGame(std::int64_t nowNs, bool force = false);

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,12 @@ public:
     // is on, remembered and applied when it goes on again otherwise; ignored
     // for robots of a built-in or idle team.
     void setVoltages(int robot, const Voltages& e);
+    // A person driving a robot by hand (V): these voltages replace its
+    // team's, built-in, remote or idle, while the game is on, and 0 V while
+    // it is stopped, like everybody's; nullopt gives the robot back to its
+    // team (a remote team's last voltages now, a built-in team's at the next
+    // tick).
+    void overrideVoltages(int robot, const std::optional<Voltages>& e);
     // Moves a body now (a person dragging it, a client placing it).
     void placeRobot(int robot, const RobotState& pose);
     void placeBall(const BallState& ball);
@@ -76,10 +83,11 @@ private:
     GameState game_;
     bool ticking_ = false;
     std::int64_t tickSteps_ = 1;
-    std::vector<Voltages> remote_;  // the remote teams' last voltages, V
-    std::vector<Voltages> wanted_;  // scratch: the voltages to apply
-    std::uint64_t random_;          // splitmix64 state
-    bool jitter_;                   // a seed other than 0 was given
+    std::vector<Voltages> remote_;                   // the remote teams' last voltages, V
+    std::vector<std::optional<Voltages>> override_;  // a person's voltages per robot, V
+    std::vector<Voltages> wanted_;                   // scratch: the voltages to apply
+    std::uint64_t random_;                           // splitmix64 state
+    bool jitter_;                                    // a seed other than 0 was given
 
     void tick();           // the referee, then the voltages, at a tick boundary
     void applyVoltages();  // what every robot gets now
