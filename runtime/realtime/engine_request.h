@@ -21,6 +21,7 @@
 #include "vssim/game/game_state.h"
 #include "vssim/robot_state.h"
 #include "vssim/scene.h"
+#include "vssim/speed_controller.h"
 
 namespace vssim {
 
@@ -38,6 +39,8 @@ constexpr double kMaxStepSteps = 3.6e6;
 struct EngineRequest {
     enum class Kind {
         Voltages,        // from a TCP client (`client`); ignored for robots under manual control
+        WheelSpeeds,     // wheel-speed targets from a client (`client`; TCP WHEEL_SPEEDS or FIRASim):
+                         // through each robot's speed loop (speed_controller.h); as Voltages otherwise
         ManualVoltages,  // from a person (keyboard, gamepad): the robots go under manual control
         ReleaseManual,   // `robot` back to TCP control: its last TCP voltages (0 V if none) apply again
         Pause,
@@ -58,6 +61,7 @@ struct EngineRequest {
         ResumeGame,      // GAME_ON from HALT or STOP (not the loop's Resume: time may run while halted)
         Placement,       // `team`'s own placement during STOP: `poses`, checked against the call
         SetTeamControl,  // `team` is driven by `control` from now on (built-in, remote or idle)
+        SetOnField,      // `robot` leaves the field (`onField` false: not simulated, not seen) or comes back
     };
     Kind kind = Kind::Voltages;
     std::int64_t arrivalNs = 0;                      // monotonicNs() when the message arrived
@@ -65,6 +69,8 @@ struct EngineRequest {
     QJsonValue id;                                   // the client's request id, echoed in the reply
     QString command;                                 // the CONTROL command's name, echoed
     std::vector<std::pair<int, Voltages>> voltages;  // Voltages: (robot index, V)
+    std::vector<std::pair<int, WheelSpeeds>> wheelSpeeds;  // WheelSpeeds: (robot index, rad/s)
+    bool onField = true;                                   // SetOnField
     double duration = 0.0;                           // Step: simulated seconds (> 0)
     double speed = 1.0;                              // Speed: real-time factor (> 0); 0 means as fast as possible
     int robot = -1;                                  // PlaceRobot: robot index

@@ -141,7 +141,25 @@ void EngineThread::run() {
     encoder_.reset();  // finishes the jobs queued
 }
 
+void EngineThread::tellObservers(const Simulation& sim, std::int64_t frame, std::int64_t nowNs, bool instant) {
+    if (observers_.empty()) return;
+    InstantRecord record;
+    record.cameraInstant = instant;
+    record.frame = frame;
+    record.step = sim.state().step;
+    record.time = sim.state().time;
+    record.instantNs = nowNs;
+    record.lockstepEnd = loop_ && (loop_->mode() == RunMode::Lockstep || loop_->paused());
+    record.world = sim.state();
+    if (loop_) {
+        record.referee = loop_->match().scene().game.rules.referee;
+        record.game = loop_->match().game();
+    }
+    for (const InstantObserver& observer : observers_) observer(record);
+}
+
 void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std::int64_t nowNs) {
+    tellObservers(sim, frame, nowNs, true);
     EncodeJob job;
     bool stateWanted;
     {
@@ -205,7 +223,8 @@ void EngineThread::reply(const EngineReply& reply) {
 
 void EngineThread::halted(const SimulationFault& fault, std::int64_t) { emit simulationHalted(fault.message()); }
 
-void EngineThread::gameChanged(const Match& match, std::int64_t frame, std::int64_t) {
+void EngineThread::gameChanged(const Match& match, std::int64_t frame, std::int64_t nowNs) {
+    tellObservers(match.simulation(), frame, nowNs, false);
     EncodeJob job;
     job.reply = EngineReply{};
     QJsonObject json = gameStateJson(match.game());

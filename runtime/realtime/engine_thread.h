@@ -20,6 +20,7 @@
 #include "camera/camera_renderer.h"
 #include "realtime/engine_loop.h"
 #include "realtime/frame_encoder.h"
+#include "realtime/instant_record.h"
 #include "realtime/snapshot.h"
 #include "wire/frame_packet.h"
 
@@ -42,6 +43,9 @@ public:
     // What the camera instants must produce (any thread; takes effect at the next instant).
     void setSubscriptions(const std::vector<ImageSubscription>& images, bool state);
     std::vector<OutboxItem> takeOutbox();
+    // Adds an observer of every camera instant and game change (instant_record.h).
+    // Before start() only.
+    void addInstantObserver(InstantObserver observer) { observers_.push_back(std::move(observer)); }
     const SnapshotBuffer& snapshots() const { return snapshots_; }
     // Whether the loop has started (its camera instant 0 is behind it).
     bool started() const { return started_.load(); }
@@ -70,6 +74,7 @@ private:
     void halted(const SimulationFault& fault, std::int64_t nowNs) override;
     void gameChanged(const Match& match, std::int64_t frame, std::int64_t nowNs) override;
     void push(OutboxItem item);
+    void tellObservers(const Simulation& sim, std::int64_t frame, std::int64_t nowNs, bool instant);
 
     const Scene scene_;
     const EngineLoopSettings settings_;
@@ -84,6 +89,7 @@ private:
     std::atomic<bool> stop_{false};
     std::atomic<bool> started_{false};
     std::vector<ImageSubscription> images_;
+    std::vector<InstantObserver> observers_;  // set before start(), then read by the engine thread only
     bool stateWanted_ = false;
 
     std::atomic<int> framesPending_{0};  // frames rendered and not yet taken by takeOutbox()
