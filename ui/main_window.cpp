@@ -191,7 +191,7 @@ void MainWindow::buildDocks() {
         dock(tr("Camera (what clients receive)"), camera_, Qt::RightDockWidgetArea, "dock.camera");
 
     scoreboard_ = new Scoreboard;
-    QDockWidget* gameDock = dock(tr("Game"), scoreboard_, Qt::LeftDockWidgetArea, "dock.game");
+    dock(tr("Game"), scoreboard_, Qt::LeftDockWidgetArea, "dock.game");
     scoreboard_->setMinimumWidth(200);
     connect(scoreboard_, &Scoreboard::gameOnRequested, this,
             [this] { session_->post(EngineRequest::Kind::ResumeGame); });

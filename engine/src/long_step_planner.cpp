@@ -99,13 +99,15 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
     const std::int64_t first = state_.step;
     // The exact integrator plans each stretch between voltage changes; with
     // long steps it also skips the free bodies' steps.
-    const bool plan = model_.settings.integrator == Integrator::Exact;
+    // Robots off the field take ordinary steps only (ordinaryStep leaves them out).
+    const bool plan = model_.settings.integrator == Integrator::Exact && !anyOffField();
     const bool skip = plan && model_.settings.long_steps;
     const double dt = model_.settings.dt;
     const std::size_t n = state_.robots.size();
     while (state_.step < target) {
         applyDueCommands();
-        std::int64_t next = target;
+        runSpeedLoops();
+        std::int64_t next = nextLoopStep(target);  // the loops' samples change voltages too
         if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
         const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
         if (!plan || forceOrdinaryStep_) {

@@ -172,7 +172,7 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
 Simulation::Simulation(const Scene& scene)
     : scene_(scene), model_(makeWorldModel(scene)), state_(initialWorldState(scene)) {
     for (const VoltageCommand& c : scene.commands)
-        schedule_.push_back({stepIndexAtOrAfter(c.t, model_.settings.dt), c.robot, c.voltages});
+        schedule_.push_back({stepIndexAtOrAfter(c.t, model_.settings.dt), c.robot, c.drive()});
     std::stable_sort(schedule_.begin(), schedule_.end(),
                      [](const ScheduledCommand& a, const ScheduledCommand& b) { return a.step < b.step; });
 }
@@ -187,17 +187,86 @@ std::int64_t Simulation::stepIndexAtOrAfter(double t, double dt) {
 }
 
 void Simulation::setVoltages(int robot, const Voltages& e) {
+    if (state_.offField[robot]) return;
+    state_.speedLoops[robot].active = false;
     state_.voltages[robot] = clampVoltages(model_.robots[robot].params, e);
 }
 
-void Simulation::placeRobot(int robot, const RobotState& pose) { state_.robots[robot] = pose; }
+void Simulation::setWheelSpeeds(int robot, const WheelSpeeds& target) {
+    if (state_.offField[robot]) return;
+    SpeedLoopState& loop = state_.speedLoops[robot];
+    loop.target = clampWheelSpeeds(target, kMaxWheelSpeedTarget);
+    if (loop.active) return;
+    const double rate = model_.robots[robot].params.speed_controller.rate;
+    const double dt = model_.settings.dt;
+    // The loop's clock runs with simulated time: its first sample is its
+    // first instant k / rate at or after now (1e-9 of a sample of slack, as
+    // for commands, so that an instant on a step boundary counts as now).
+    loop.active = true;
+    loop.right = {};
+    loop.left = {};
+    loop.output = state_.voltages[robot];
+    loop.sample = static_cast<std::int64_t>(std::ceil(state_.time * rate - 1e-9));
+    loop.nextStep = stepIndexAtOrAfter(static_cast<double>(loop.sample) / rate, dt);
+}
+
+void Simulation::drive(int robot, const DriveCommand& command) {
+    if (command.wheelSpeeds)
+        setWheelSpeeds(robot, command.speeds);
+    else
+        setVoltages(robot, command.voltages);
+}
+
+void Simulation::setOnField(int robot, bool onField) {
+    if (onField) {
+        state_.offField[robot] = 0;
+        return;
+    }
+    setVoltages(robot, {});
+    state_.robots[robot].v = 0.0;
+    state_.robots[robot].omega = 0.0;
+    state_.offField[robot] = 1;
+}
+
+bool Simulation::anyOffField() const {
+    return std::any_of(state_.offField.begin(), state_.offField.end(), [](char off) { return off != 0; });
+}
+
+void Simulation::runSpeedLoops() {
+    const double dt = model_.settings.dt;
+    for (std::size_t i = 0; i < state_.speedLoops.size(); ++i) {
+        SpeedLoopState& loop = state_.speedLoops[i];
+        if (!loop.active || loop.nextStep > state_.step) continue;
+        const RobotModel& robot = model_.robots[i];
+        const Eigen::Vector2d wheels = robot.TwInv * Eigen::Vector2d(state_.robots[i].v, state_.robots[i].omega);
+        updateSpeedLoop(robot.params.speed_controller, loop, {wheels(0), wheels(1)}, robot.params.max_voltage);
+        state_.voltages[i] = loop.output;
+        // The next instant after this step (a loop faster than 1/dt samples once a step).
+        const double rate = robot.params.speed_controller.rate;
+        do {
+            ++loop.sample;
+            loop.nextStep = stepIndexAtOrAfter(static_cast<double>(loop.sample) / rate, dt);
+        } while (loop.nextStep <= state_.step);
+    }
+}
+
+std::int64_t Simulation::nextLoopStep(std::int64_t limit) const {
+    for (const SpeedLoopState& loop : state_.speedLoops)
+        if (loop.active) limit = std::min(limit, loop.nextStep);
+    return limit;
+}
+
+void Simulation::placeRobot(int robot, const RobotState& pose) {
+    state_.robots[robot] = pose;
+    if (state_.offField[robot]) state_.robots[robot].v = state_.robots[robot].omega = 0.0;  // stays at rest
+}
 
 void Simulation::placeBall(const BallState& ball) { state_.ball = ball; }
 
 void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {
         const ScheduledCommand& c = schedule_[nextCommand_++];
-        setVoltages(c.robot, c.voltages);
+        drive(c.robot, c.drive);
     }
 }
 
@@ -214,13 +283,16 @@ void Simulation::finishStep(std::int64_t steps) {
 }
 
 StepReport Simulation::ordinaryStep() {
-    const StepReport report = stepWorld(model_, state_, model_.settings.dt, cachedTables());
+    StepOptions options = cachedTables();
+    if (anyOffField()) options.freeRobots = &state_.offField;  // nothing touches them
+    const StepReport report = stepWorld(model_, state_, model_.settings.dt, options);
     finishStep(1);
     return report;
 }
 
 StepReport Simulation::step() {
     applyDueCommands();
+    runSpeedLoops();
     return ordinaryStep();
 }
 

@@ -25,6 +25,8 @@ WorldState initialWorldState(const Scene& scene) {
         s.robots.push_back(r.initial);
         s.voltages.push_back({});
     }
+    s.speedLoops.assign(scene.robots.size(), {});
+    s.offField.assign(scene.robots.size(), 0);
     return s;
 }
 

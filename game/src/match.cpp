@@ -93,37 +93,46 @@ void Match::applyVoltages() {
         for (Team team : {Team::Yellow, Team::Blue}) {
             const TeamControl c = control(team);
             if (c == TeamControl::Builtin) sparringVoltages(sim_.model(), sim_.state(), teams_, game_, team, wanted_);
-            if (c == TeamControl::Remote)
-                for (std::size_t i = 0; i < n; ++i)
-                    if (teams_[i] == team) wanted_[i] = remote_[i];
         }
     }
-    for (std::size_t i = 0; i < n; ++i)
-        if (override_[i]) wanted_[i] = playing() ? *override_[i] : Voltages{};
-    for (std::size_t i = 0; i < n; ++i) sim_.setVoltages(static_cast<int>(i), wanted_[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int robot = static_cast<int>(i);
+        if (override_[i])
+            sim_.setVoltages(robot, playing() ? *override_[i] : Voltages{});
+        else if (playing() && control(teams_[i]) == TeamControl::Remote)
+            sim_.drive(robot, remote_[i]);  // a speed loop already on keeps its state
+        else
+            sim_.setVoltages(robot, wanted_[i]);
+    }
 }
 
 void Match::overrideVoltages(int robot, const std::optional<Voltages>& e) {
     if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
     if (!e && !override_[robot]) return;  // not overridden: nothing changes
     override_[robot] = e;
-    Voltages now;  // 0 V: stopped, or a built-in or idle team's until its next tick
+    DriveCommand now;  // 0 V: stopped, or a built-in or idle team's until its next tick
     if (e)
-        now = !ticking_ || playing() ? *e : Voltages{};
+        now = DriveCommand::ofVoltages(!ticking_ || playing() ? *e : Voltages{});
     else if (!ticking_ || (playing() && control(teams_[robot]) == TeamControl::Remote))
         now = remote_[robot];
-    sim_.setVoltages(robot, now);
+    sim_.drive(robot, now);
 }
 
-void Match::setVoltages(int robot, const Voltages& e) {
+void Match::setVoltages(int robot, const Voltages& e) { drive(robot, DriveCommand::ofVoltages(e)); }
+
+void Match::setWheelSpeeds(int robot, const WheelSpeeds& w) { drive(robot, DriveCommand::ofWheelSpeeds(w)); }
+
+void Match::drive(int robot, const DriveCommand& command) {
     if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
-    remote_[robot] = e;
+    remote_[robot] = command;
     if (override_[robot]) return;  // a person has it
-    if (!ticking_) {
-        sim_.setVoltages(robot, e);
-        return;
-    }
-    if (playing() && control(teams_[robot]) == TeamControl::Remote) sim_.setVoltages(robot, e);
+    if (!ticking_ || (playing() && control(teams_[robot]) == TeamControl::Remote)) sim_.drive(robot, command);
+}
+
+void Match::setOnField(int robot, bool onField) {
+    if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
+    sim_.setOnField(robot, onField);
+    if (onField) applyVoltages();  // back: what its team gives it now
 }
 
 void Match::placeRobot(int robot, const RobotState& pose) { sim_.placeRobot(robot, pose); }

@@ -217,7 +217,7 @@ bool SceneReader::motor(const QJsonObject& o, const QString& path, MotorParams& 
 bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotParams& p, bool* inertiaGiven) {
     if (!keys(o, path,
               {"side", "mass", "inertia", "wheel_base", "friction_linear", "friction_angular", "max_voltage", "right",
-               "left"}) ||
+               "left", "speed_controller"}) ||
         !number(o, path, "side", kRobotSide, &p.side) || !number(o, path, "mass", kRobotMass, &p.mass) ||
         !number(o, path, "inertia", kRobotInertia, &p.inertia) ||
         !number(o, path, "wheel_base", kWheelBase, &p.wheel_base) ||
@@ -232,6 +232,21 @@ bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotPa
         QJsonObject m;
         if (!object(o.value(QLatin1String(key)), join(path, key), &m) || !motor(m, join(path, key), *motorParams))
             return false;
+    }
+    if (o.contains("speed_controller")) {
+        QJsonObject c;
+        const QString where = join(path, "speed_controller");
+        SpeedControllerParams& s = p.speed_controller;
+        double counts = s.encoder_counts;
+        if (!object(o.value("speed_controller"), where, &c) ||
+            !keys(c, where, {"rate", "kp", "ki", "encoder_counts"}) || !number(c, where, "rate", kLoopRate, &s.rate) ||
+            !number(c, where, "kp", kLoopKp, &s.kp) || !number(c, where, "ki", kLoopKi, &s.ki) ||
+            !number(c, where, "encoder_counts", kEncoderCounts, &counts))
+            return false;
+        if (counts != std::floor(counts))
+            return fail(join(where, "encoder_counts"),
+                        QStringLiteral("must be a whole number of counts per revolution (got %1)").arg(counts));
+        s.encoder_counts = static_cast<int>(counts);
     }
     return true;
 }
@@ -319,10 +334,19 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
         QJsonObject o;
         VoltageCommand c;
         QString robot;
-        if (!object(list[i], path, &o) || !keys(o, path, {"t", "robot", "right", "left"}) ||
+        if (!object(list[i], path, &o) ||
+            !keys(o, path, {"t", "robot", "right", "left", "right_speed", "left_speed"}) ||
             !number(o, path, "t", kCommandTime, &c.t) || !string(o, path, "robot", &robot) ||
-            !number(o, path, "right", kAny, &c.voltages.right) || !number(o, path, "left", kAny, &c.voltages.left))
+            !number(o, path, "right", kAny, &c.voltages.right) || !number(o, path, "left", kAny, &c.voltages.left) ||
+            !number(o, path, "right_speed", kWheelSpeedTarget, &c.speeds.right) ||
+            !number(o, path, "left_speed", kWheelSpeedTarget, &c.speeds.left))
             return false;
+        // Voltages (right, left) or wheel-speed targets (right_speed, left_speed), not both.
+        const bool volts = o.contains("right") || o.contains("left");
+        c.wheelSpeeds = o.contains("right_speed") || o.contains("left_speed");
+        if (volts && c.wheelSpeeds)
+            return fail(path, QStringLiteral("gives both voltages (right, left) and wheel speeds (right_speed, "
+                                             "left_speed): a command is one or the other"));
         if (!o.contains("robot")) return fail(join(path, "robot"), QStringLiteral("missing (the name of a robot)"));
         c.robot = robotIndex_.value(robot, -1);  // a hash look-up: loading stays linear in robots + commands
         if (c.robot < 0) return fail(join(path, "robot"), QStringLiteral("no robot named \"%1\"").arg(shown(robot)));
@@ -488,7 +512,11 @@ QJsonObject robotParamsJson(const RobotParams& p) {
             {"friction_angular", p.friction_angular},
             {"max_voltage", p.max_voltage},
             {"right", motorJson(p.right)},
-            {"left", motorJson(p.left)}};
+            {"left", motorJson(p.left)},
+            {"speed_controller", QJsonObject{{"rate", p.speed_controller.rate},
+                                             {"kp", p.speed_controller.kp},
+                                             {"ki", p.speed_controller.ki},
+                                             {"encoder_counts", p.speed_controller.encoder_counts}}}};
 }
 
 }  // namespace
@@ -645,10 +673,14 @@ QByteArray sceneToJson(const Scene& scene) {
     root["robots"] = robots;
     QJsonArray commands;
     for (const VoltageCommand& c : scene.commands)
-        commands.append(QJsonObject{{"t", c.t},
-                                    {"robot", QString::fromStdString(scene.robots[c.robot].name)},
-                                    {"right", c.voltages.right},
-                                    {"left", c.voltages.left}});
+        commands.append(c.wheelSpeeds ? QJsonObject{{"t", c.t},
+                                                    {"robot", QString::fromStdString(scene.robots[c.robot].name)},
+                                                    {"right_speed", c.speeds.right},
+                                                    {"left_speed", c.speeds.left}}
+                                      : QJsonObject{{"t", c.t},
+                                                    {"robot", QString::fromStdString(scene.robots[c.robot].name)},
+                                                    {"right", c.voltages.right},
+                                                    {"left", c.voltages.left}});
     root["commands"] = commands;
     QJsonObject game = gameRulesToJson(scene.game.rules);
     game["yellow"] = teamControlName(scene.game.yellow);

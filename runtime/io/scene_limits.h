@@ -59,6 +59,16 @@ constexpr AllowedRange kMotorConstant{1e-5, 100.0, false, "V s/rad"};
 constexpr AllowedRange kRotorInertia{0.0, 10.0, false, "kg m²"};
 constexpr AllowedRange kMotorFriction{0.0, 100.0, false, "N m s/rad"};
 
+// The on-board speed loop (defaults: 200 Hz, 0.6 V/(rad/s), 10 V/rad, exact
+// speed): rates from 1 Hz to 1 MHz (a loop faster than 1/dt samples once a
+// step), gains from 0, an encoder of up to 2^24 counts a revolution.
+constexpr AllowedRange kLoopRate{1.0, 1e6, false, "Hz"};
+constexpr AllowedRange kLoopKp{0.0, 1e4, false, "V s/rad"};
+constexpr AllowedRange kLoopKi{0.0, 1e6, false, "V/rad"};
+constexpr AllowedRange kEncoderCounts{0.0, 16777216.0, false, "counts/rev"};
+// Wheel-speed targets a scene command may give (rad/s); clients' are clamped to the same.
+constexpr AllowedRange kWheelSpeedTarget{-1000.0, 1000.0, false, "rad/s"};
+
 // Ball (defaults: 46 g, 21.35 mm, 0.02 N s/m).
 constexpr AllowedRange kBallMass{1e-4, 100.0, false, "kg"};
 constexpr AllowedRange kBallRadius{1e-5, 10.0, false, "m"};

@@ -175,16 +175,21 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
     return hello;
 }
 
-std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Voltages>>& entries, const Scene& scene,
-                                          ClientRole role) {
+namespace {
+
+// VOLTAGES and WHEEL_SPEEDS: `name` the message, `quantity` what its numbers are.
+template <typename T>
+std::optional<RequestError> checkDriveEntries(const std::vector<std::pair<int, T>>& entries, const Scene& scene,
+                                              ClientRole role, const char* name, const char* quantity) {
     if (role == ClientRole::Observer)
         return RequestError{"not_your_robot",
-                            "VOLTAGES: an observer cannot drive robots (say HELLO as \"yellow\" or \"blue\")"};
+                            QStringLiteral("%1: an observer cannot drive robots (say HELLO as \"yellow\" or \"blue\")")
+                                .arg(name)};
     const Team team = role == ClientRole::Yellow ? Team::Yellow : Team::Blue;
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const auto& [robot, e] = entries[i];
-        // Built only for an error: a flood of good VOLTAGES passes here a million times a second.
-        auto where = [i] { return QStringLiteral("VOLTAGES entry %1").arg(i); };
+        // Built only for an error: a flood of good commands passes here a million times a second.
+        auto where = [i, name] { return QStringLiteral("%1 entry %2").arg(name).arg(i); };
         if (robot < 0 || robot >= static_cast<int>(scene.robots.size()))
             return RequestError{"bad_robot", QStringLiteral("%1: no robot %2 (the scene has robots 0 to %3)")
                                                  .arg(where())
@@ -195,17 +200,30 @@ std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Volta
                                                       .arg(where())
                                                       .arg(robot)
                                                       .arg(QString::fromStdString(scene.robots[robot].name))};
-        for (auto [side, volts] : {std::pair{"right", e.right}, std::pair{"left", e.left}})
-            if (!std::isfinite(volts))
-                return RequestError{"not_finite", QStringLiteral("%1: robot %2 %3 voltage is %4")
+        for (auto [side, value] : {std::pair{"right", e.right}, std::pair{"left", e.left}})
+            if (!std::isfinite(value))
+                return RequestError{"not_finite", QStringLiteral("%1: robot %2 %3 %4 is %5")
                                                       .arg(where())
                                                       .arg(robot)
                                                       .arg(side)
-                                                      .arg(std::isnan(volts) ? "NaN"
-                                                           : volts > 0       ? "+infinity"
+                                                      .arg(quantity)
+                                                      .arg(std::isnan(value) ? "NaN"
+                                                           : value > 0       ? "+infinity"
                                                                              : "-infinity")};
     }
     return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Voltages>>& entries, const Scene& scene,
+                                          ClientRole role) {
+    return checkDriveEntries(entries, scene, role, "VOLTAGES", "voltage");
+}
+
+std::optional<RequestError> checkWheelSpeeds(const std::vector<std::pair<int, WheelSpeeds>>& entries,
+                                             const Scene& scene, ClientRole role) {
+    return checkDriveEntries(entries, scene, role, "WHEEL_SPEEDS", "wheel speed");
 }
 
 std::optional<EngineRequest> parseControl(const QJsonObject& json, const Scene& scene, RequestError* error) {

@@ -38,6 +38,9 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error);
 // team, and finite volts.
 std::optional<RequestError> checkVoltages(const std::vector<std::pair<int, Voltages>>& entries, const Scene& scene,
                                           ClientRole role);
+// The same for WHEEL_SPEEDS (rad/s; finite, and clamped to +-kMaxWheelSpeedTarget later).
+std::optional<RequestError> checkWheelSpeeds(const std::vector<std::pair<int, WheelSpeeds>>& entries,
+                                             const Scene& scene, ClientRole role);
 
 // A CONTROL message, as an engine request (arrival time, client and id are
 // the caller's to fill in).

@@ -49,7 +49,7 @@ struct ControlServer::Client {
     bool greeted = false;
     bool closing = false;                            // dropped or disconnected: nothing more is read or sent
     bool turnQueued = false;                         // a turn to handle the rest of its input is queued
-    std::vector<std::pair<int, Voltages>> voltages;  // this turn's VOLTAGES, the newest per robot
+    std::vector<std::pair<int, DriveCommand>> drives;  // this turn's VOLTAGES and WHEEL_SPEEDS, the newest per robot
     Hello hello;
     QTimer* helloTimer = nullptr;
     QByteArray pendingFrame, pendingState;  // newest unsent, waiting for the socket to drain
@@ -284,18 +284,24 @@ void ControlServer::serveTurn(Client& client) {
 }
 
 void ControlServer::flushVoltages(Client& client, std::int64_t arrivalNs) {
-    if (client.voltages.empty()) return;
+    if (client.drives.empty()) return;
     EngineRequest request;
-    request.kind = EngineRequest::Kind::Voltages;
+    request.kind = EngineRequest::Kind::Voltages;  // with wheel speeds too: each robot appears once
     request.arrivalNs = arrivalNs;
     request.client = client.id;
-    request.voltages.swap(client.voltages);
+    for (const auto& [robot, drive] : client.drives) {
+        if (drive.wheelSpeeds)
+            request.wheelSpeeds.emplace_back(robot, drive.speeds);
+        else
+            request.voltages.emplace_back(robot, drive.voltages);
+    }
+    client.drives.clear();
     // A dropped team client's robots have been stopped: its last voltages must not restart them.
     if (client.closing) return;
     if (!post(client, std::move(request)))
         sendError(client,
                   {"busy",
-                   QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES dropped")
+                   QStringLiteral("more than %1 of this client's requests are waiting for the engine; VOLTAGES and WHEEL_SPEEDS dropped")
                        .arg(kMaxQueuedPerClient)},
                   false);
 }
@@ -325,6 +331,7 @@ void ControlServer::handle(Client& client, const protocol::Message& message, std
             sendError(client, {"malformed", "HELLO again: a client says HELLO once"}, false);
             return;
         case MessageType::Voltages: return handleVoltages(client, message);
+        case MessageType::WheelSpeeds: return handleWheelSpeeds(client, message);
         case MessageType::Placement: {
             QString jsonError;
             const std::optional<QJsonObject> json = protocol::parseJsonObject(message.payload, &jsonError);
@@ -407,17 +414,29 @@ void ControlServer::handleVoltages(Client& client, const protocol::Message& mess
     if (!entries) return sendError(client, {"malformed", layoutError}, false);
     if (const auto error = checkVoltages(*entries, scene_, client.hello.role)) return sendError(client, *error, false);
     ++client.commands;
+    for (const auto& [robot, volts] : *entries) keepNewest(client, robot, DriveCommand::ofVoltages(volts));
+}
+
+void ControlServer::handleWheelSpeeds(Client& client, const protocol::Message& message) {
+    QString layoutError;
+    const auto entries = protocol::decodeWheelSpeeds(message.payload, &layoutError);
+    if (!entries) return sendError(client, {"malformed", layoutError}, false);
+    if (const auto error = checkWheelSpeeds(*entries, scene_, client.hello.role))
+        return sendError(client, *error, false);
+    ++client.commands;
+    for (const auto& [robot, speeds] : *entries) keepNewest(client, robot, DriveCommand::ofWheelSpeeds(speeds));
+}
+
+void ControlServer::keepNewest(Client& client, int robot, const DriveCommand& drive) {
     // Merged into the turn's one request: the turn's messages share one
     // arrival instant, at which the engine would apply them one after the
-    // other, so each robot's newest voltages are all that counts.
-    for (const auto& [robot, volts] : *entries) {
-        auto it = std::find_if(client.voltages.begin(), client.voltages.end(),
-                               [robot = robot](const auto& entry) { return entry.first == robot; });
-        if (it != client.voltages.end())
-            it->second = volts;
-        else
-            client.voltages.emplace_back(robot, volts);
-    }
+    // other, so each robot's newest command is all that counts.
+    auto it = std::find_if(client.drives.begin(), client.drives.end(),
+                           [robot](const auto& entry) { return entry.first == robot; });
+    if (it != client.drives.end())
+        it->second = drive;
+    else
+        client.drives.emplace_back(robot, drive);
 }
 
 bool ControlServer::post(Client& client, EngineRequest request) {

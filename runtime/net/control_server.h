@@ -128,6 +128,8 @@ private:
     void flushVoltages(Client& client, std::int64_t arrivalNs);
     void handle(Client& client, const protocol::Message& message, std::int64_t arrivalNs);
     void handleVoltages(Client& client, const protocol::Message& message);
+    void handleWheelSpeeds(Client& client, const protocol::Message& message);
+    void keepNewest(Client& client, int robot, const DriveCommand& drive);  // into the turn's request
     void greet(Client& client, const QJsonObject& json);
     void sendError(Client& client, const RequestError& error, bool fatal, const QJsonValue& id = QJsonValue());
     bool errorAllowed(Client& client);  // within its ERROR ration (says so once when not)

@@ -23,7 +23,7 @@ const char* runModeName(RunMode mode) {
 EngineLoop::EngineLoop(const Scene& scene, const EngineLoopSettings& settings, EngineSink& sink)
     : scene_(scene), settings_(settings), sink_(sink), mode_(settings.mode), speed_(settings.speed) {
     newMatch(scene_);
-    nextFrameStep_ = frameSteps_;
+    restartFrames(0);
     control_.assign(scene.robots.size(), RobotControl{});
 }
 
@@ -34,11 +34,34 @@ void EngineLoop::newMatch(const Scene& scene) {
 }
 
 void EngineLoop::updateFrameSteps() {
+    const double exact = settings_.framePeriod / match_->simulation().dt();
     frameSteps_ = stepsPerFrame(settings_.framePeriod, match_->simulation().dt());
-    if (match_->ticking()) {
+    fractionalFrames_ = std::abs(exact - std::round(exact)) > 1e-6 && exact > 1.0;
+    exactFrameSteps_ = fractionalFrames_ ? exact : static_cast<double>(frameSteps_);
+    if (match_->ticking() && !fractionalFrames_) {
         const std::int64_t tick = match_->tickSteps();
         frameSteps_ = (frameSteps_ + tick - 1) / tick * tick;
     }
+}
+
+double EngineLoop::framePeriod() const {
+    return fractionalFrames_ ? settings_.framePeriod : static_cast<double>(frameSteps_) * simulation().dt();
+}
+
+std::int64_t EngineLoop::frameStepAt(std::int64_t k) const {
+    if (!fractionalFrames_) return frameBase_ + k * frameSteps_;
+    std::int64_t step = frameBase_ + static_cast<std::int64_t>(std::ceil(static_cast<double>(k) * exactFrameSteps_ - 1e-9));
+    if (match_->ticking()) {
+        const std::int64_t tick = match_->tickSteps();
+        step = (step + tick - 1) / tick * tick;
+    }
+    return step;
+}
+
+void EngineLoop::restartFrames(std::int64_t fromStep) {
+    frameBase_ = fromStep;
+    frameIndex_ = 1;
+    nextFrameStep_ = frameStepAt(1);
 }
 
 void EngineLoop::start(std::int64_t nowNs) {
@@ -123,7 +146,10 @@ bool EngineLoop::advanceTo(std::int64_t target, std::int64_t nowNs) {
         match_->advanceTo(nextFrameStep_);
         if (halt(nowNs)) return false;  // no camera instant of a non-finite state
         ++frame_;
-        nextFrameStep_ += frameSteps_;
+        // The next instant after this one (a tick boundary may hold two multiples of the period).
+        do {
+            nextFrameStep_ = frameStepAt(++frameIndex_);
+        } while (nextFrameStep_ <= simulation().state().step);
         emitInstant(nowNs);
     }
     match_->advanceTo(target);
@@ -166,7 +192,7 @@ void EngineLoop::restart(std::int64_t arrivalNs, std::int64_t nowNs) {
 
 void EngineLoop::restartClock(std::int64_t arrivalNs, std::int64_t nowNs) {
     frame_ = 0;
-    nextFrameStep_ = frameSteps_;
+    restartFrames(simulation().state().step);
     reanchor(arrivalNs);
     if (!fault_) emitInstant(nowNs);  // no camera instant of a non-finite state (new settings while halted)
 }
@@ -174,24 +200,28 @@ void EngineLoop::restartClock(std::int64_t arrivalNs, std::int64_t nowNs) {
 void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
     using Kind = EngineRequest::Kind;
     // In realtime mode every request acts at the instant it arrived.
-    if (running() && !catchUp(r.arrivalNs, nowNs, std::numeric_limits<std::int64_t>::max()) && r.kind == Kind::Voltages)
+    const bool command = r.kind == Kind::Voltages || r.kind == Kind::WheelSpeeds;
+    if (running() && !catchUp(r.arrivalNs, nowNs, std::numeric_limits<std::int64_t>::max()) && command)
         ++stats_.lateCommands;
     switch (r.kind) {
-        case Kind::Voltages: {
-            for (const auto& [robot, e] : r.voltages) {
+        case Kind::Voltages:
+        case Kind::WheelSpeeds: {
+            auto take = [&](int robot, const DriveCommand& drive) {
                 // Checked against the scene by the sender; a request made for
                 // another scene (one replaced in between) is not for this world.
-                if (robot < 0 || robot >= static_cast<int>(control_.size())) continue;
+                if (robot < 0 || robot >= static_cast<int>(control_.size())) return;
                 RobotControl& c = control_[robot];
-                c.lastTcp = e;
-                c.client = r.client;  // -1: the server stopping a departed client's robots
+                c.lastTcp = drive;
+                c.client = r.client;  // -1: the server stopping a departed client's robots, or FIRASim
                 if (c.controller == RobotController::Manual) {
                     c.tcpWhileManual = r.client >= 0;  // a person has it: TCP is ignored
-                    continue;
+                    return;
                 }
                 c.controller = r.client >= 0 ? RobotController::Tcp : RobotController::None;
-                match_->setVoltages(robot, e);
-            }
+                match_->drive(robot, drive);
+            };
+            for (const auto& [robot, e] : r.voltages) take(robot, DriveCommand::ofVoltages(e));
+            for (const auto& [robot, w] : r.wheelSpeeds) take(robot, DriveCommand::ofWheelSpeeds(w));
             stats_.commandLatencyMs.add(1e-6 * static_cast<double>(nowNs - r.arrivalNs));
             if (running()) {
                 const double arrivalTime = simTimeAt(r.arrivalNs);
@@ -217,7 +247,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 c.manual = Voltages{};
                 // A remote team's robot: its last TCP voltages now; a built-in
                 // team's: its team's from the next tick (0 V until then).
-                match_->setVoltages(r.robot, c.client >= 0 ? c.lastTcp : Voltages{});
+                match_->drive(r.robot, c.client >= 0 ? c.lastTcp : DriveCommand{});
                 match_->overrideVoltages(r.robot, std::nullopt);
                 c.tcpWhileManual = false;
             }
@@ -293,11 +323,17 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             (r.team == Team::Yellow ? scene_.game.yellow : scene_.game.blue) = r.control;
             updateFrameSteps();
             // The next camera instant on a tick boundary, if the Match ticks now.
+            if (fractionalFrames_) {
+                restartFrames(simulation().state().step);
+                break;
+            }
             nextFrameStep_ = std::max(nextFrameStep_, (simulation().state().step / frameSteps_ + 1) * frameSteps_);
             if (match_->ticking()) {
                 const std::int64_t tick = match_->tickSteps();
                 nextFrameStep_ = (nextFrameStep_ + tick - 1) / tick * tick;
             }
+            frameBase_ = nextFrameStep_ - frameSteps_;
+            frameIndex_ = 1;
             break;
         case Kind::Pause: paused_ = true; break;
         case Kind::Resume:
@@ -321,18 +357,21 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             match_->advanceTo(target);
             if (halt(nowNs)) return replyTo(r, "non_finite", haltedMessage());
             ++frame_;
-            nextFrameStep_ = simulation().state().step + frameSteps_;
+            restartFrames(simulation().state().step);
             emitInstant(nowNs);
             break;
         }
         case Kind::Reset:
-            for (RobotControl& c : control_) c.lastTcp = Voltages{};
+            for (RobotControl& c : control_) c.lastTcp = DriveCommand{};
             restart(r.arrivalNs, nowNs);
             break;
         case Kind::PlaceRobot:
             if (r.robot >= 0 && r.robot < static_cast<int>(control_.size())) match_->placeRobot(r.robot, r.robotPose);
             break;
         case Kind::PlaceBall: match_->placeBall(r.ball); break;
+        case Kind::SetOnField:
+            if (r.robot >= 0 && r.robot < static_cast<int>(control_.size())) match_->setOnField(r.robot, r.onField);
+            break;
         case Kind::Speed:
             if (mode_ == RunMode::Lockstep) return replyTo(r, "lockstep", "the speed cannot change in lockstep mode");
             mode_ = r.speed > 0 ? RunMode::Realtime : RunMode::Max;

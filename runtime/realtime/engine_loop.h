@@ -24,13 +24,18 @@
 // and the built-in teams act at every game tick (the scene's game.tick);
 // with the referee off and no built-in team the Match is exactly the plain
 // Simulation. While the Match ticks, camera instants fall on tick
-// boundaries (the frame period is rounded up to whole ticks) and a `step`
+// boundaries (a period of whole steps is rounded up to whole ticks; any
+// other, such as FIRASim's 1/60 s, puts each instant on the first tick
+// boundary at or after its multiple of the period) and a `step`
 // ends on one (its duration is rounded up to the next tick boundary), so
 // every instant a client sees comes after the referee's and the built-in
 // team's decisions at it, and lockstep runs stay bit-identical. A change of
 // the game's state (phase, call, half, score) is told to the sink
 // (gameChanged) before the camera instant that first shows it, or at once
 // when a request made it.
+//
+// Wheel speeds (TCP WHEEL_SPEEDS, FIRASim) are handled like voltages and go
+// to the robot's speed loop (Match::setWheelSpeeds).
 //
 // Voltages: a TCP client's go to the Match (Match::setVoltages: applied to
 // a remote team's robots while the game is on, ignored for a built-in or
@@ -68,7 +73,7 @@ enum class RobotController { None, Tcp, Manual };
 struct RobotControl {
     RobotController controller = RobotController::None;
     int client = -1;              // the TCP client whose voltages it last took (Tcp), or -1
-    Voltages lastTcp;             // the last TCP voltages, also while under manual control, V
+    DriveCommand lastTcp;         // a client's last command (V or rad/s), also while under manual control
     bool tcpWhileManual = false;  // TCP voltages arrived (and were ignored) under manual control
     Voltages manual;              // the person's voltages while under manual control, V
 };
@@ -142,6 +147,9 @@ public:
     const std::vector<RobotControl>& control() const { return control_; }
     std::int64_t frame() const { return frame_; }
     std::int64_t frameSteps() const { return frameSteps_; }
+    // The camera period, s: whole steps (frameSteps), or on average the
+    // settings' period when it is not a whole number of steps (see below).
+    double framePeriod() const;
     RunMode mode() const { return mode_; }
     bool paused() const { return paused_; }
     // Why the loop halted (see above), or nothing while the state is finite.
@@ -163,6 +171,17 @@ private:
     std::int64_t frameSteps_;     // steps of dt per frame period
     std::int64_t frame_ = 0;      // camera instants since start/reset
     std::int64_t nextFrameStep_;  // step index of the next camera instant
+    // A period of whole steps gives an instant every frameSteps_ steps; any
+    // other (1/60 s in steps of 1 ms) gives instant k of a schedule at the
+    // first step at or after k periods from frameBase_ (on a tick boundary
+    // while the Match ticks): the right rate on average, within a step (or a
+    // tick) of each multiple of the period.
+    bool fractionalFrames_ = false;
+    double exactFrameSteps_ = 1.0;   // steps per period, not rounded
+    std::int64_t frameBase_ = 0;     // the step the schedule counts from
+    std::int64_t frameIndex_ = 1;    // k of nextFrameStep_
+    std::int64_t frameStepAt(std::int64_t k) const;
+    void restartFrames(std::int64_t fromStep);  // instant 1 of a new schedule from `fromStep`
     std::int64_t anchorNs_ = 0;   // wall time at which the simulation was at anchorStep_
     std::int64_t anchorStep_ = 0;
     EngineLoopStats stats_;

@@ -16,7 +16,7 @@ EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& setting
     // the thread runs.
     EngineLoop initial(scene_, settings_, *this);
     sceneShared_ = std::make_shared<const Scene>(scene_);
-    framePeriod_ = static_cast<double>(initial.frameSteps()) * scene_.simulation.dt;
+    framePeriod_ = initial.framePeriod();
     snapshots_.publish(std::make_shared<Snapshot>(takeSnapshot(initial, sceneShared_, 0.0, monotonicNs())));
 }
 
@@ -128,7 +128,7 @@ void EngineThread::run() {
             }
             loop.handle(request, monotonicNs());
             if (request.kind == EngineRequest::Kind::LoadScene || request.kind == EngineRequest::Kind::SetSettings)
-                framePeriod_ = static_cast<double>(loop.frameSteps()) * loop.scene().simulation.dt;
+                framePeriod_ = loop.framePeriod();
             if (request.queued) request.queued->fetch_sub(1);
         }
         loop.runUntil(monotonicNs());

@@ -114,12 +114,19 @@ std::optional<QJsonObject> parseJsonObject(const QByteArray& payload, QString* e
     return doc.object();
 }
 
-QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries) {
-    if (entries.empty() || entries.size() > 255) throw std::invalid_argument("encodeVoltages: 1 to 255 entries");
+namespace {
+
+// VOLTAGES and WHEEL_SPEEDS share a layout: u8 count, then count x (u8
+// robot, f64 right, f64 left); T is Voltages or WheelSpeeds.
+template <typename T>
+QByteArray encodePairs(const std::vector<std::pair<int, T>>& entries, const char* name) {
+    if (entries.empty() || entries.size() > 255)
+        throw std::invalid_argument(std::string("encode ") + name + ": 1 to 255 entries");
     QByteArray out;
     putU8(out, static_cast<std::uint8_t>(entries.size()));
     for (const auto& [robot, e] : entries) {
-        if (robot < 0 || robot > 255) throw std::invalid_argument("encodeVoltages: robot indices are 0 to 255");
+        if (robot < 0 || robot > 255)
+            throw std::invalid_argument(std::string("encode ") + name + ": robot indices are 0 to 255");
         putU8(out, static_cast<std::uint8_t>(robot));
         putF64(out, e.right);
         putF64(out, e.left);
@@ -127,31 +134,53 @@ QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries) 
     return out;
 }
 
-std::optional<std::vector<std::pair<int, Voltages>>> decodeVoltages(const QByteArray& payload, QString* error) {
+template <typename T>
+std::optional<std::vector<std::pair<int, T>>> decodePairs(const QByteArray& payload, const char* name,
+                                                           QString* error) {
     Cursor c(payload);
     if (!c.has(1)) {
-        *error = QStringLiteral("VOLTAGES: empty payload (expected a count byte)");
+        *error = QStringLiteral("%1: empty payload (expected a count byte)").arg(name);
         return std::nullopt;
     }
     const int count = c.u8();
     const qsizetype want = 1 + 17 * static_cast<qsizetype>(count);
     if (count == 0 || payload.size() != want) {
-        *error = count == 0 ? QStringLiteral("VOLTAGES: count is 0")
-                            : QStringLiteral("VOLTAGES: %1 entries need %2 payload bytes, got %3")
+        *error = count == 0 ? QStringLiteral("%1: count is 0").arg(name)
+                            : QStringLiteral("%1: %2 entries need %3 payload bytes, got %4")
+                                  .arg(name)
                                   .arg(count)
                                   .arg(want)
                                   .arg(payload.size());
         return std::nullopt;
     }
-    std::vector<std::pair<int, Voltages>> entries;
+    std::vector<std::pair<int, T>> entries;
     for (int i = 0; i < count; ++i) {
         const int robot = c.u8();
-        Voltages e;
+        T e;
         e.right = c.f64();
         e.left = c.f64();
         entries.emplace_back(robot, e);
     }
     return entries;
+}
+
+}  // namespace
+
+QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries) {
+    return encodePairs(entries, "VOLTAGES");
+}
+
+std::optional<std::vector<std::pair<int, Voltages>>> decodeVoltages(const QByteArray& payload, QString* error) {
+    return decodePairs<Voltages>(payload, "VOLTAGES", error);
+}
+
+QByteArray encodeWheelSpeeds(const std::vector<std::pair<int, WheelSpeeds>>& entries) {
+    return encodePairs(entries, "WHEEL_SPEEDS");
+}
+
+std::optional<std::vector<std::pair<int, WheelSpeeds>>> decodeWheelSpeeds(const QByteArray& payload,
+                                                                           QString* error) {
+    return decodePairs<WheelSpeeds>(payload, "WHEEL_SPEEDS", error);
 }
 
 std::uint8_t encodingCode(ImageEncoding encoding) {

@@ -13,6 +13,7 @@
 
 #include "camera/image_codec.h"
 #include "vssim/robot_state.h"
+#include "vssim/speed_controller.h"
 
 namespace vssim::protocol {
 
@@ -26,6 +27,7 @@ enum class MessageType : std::uint8_t {
     Voltages = 0x02,
     Control = 0x03,
     Placement = 0x04,
+    WheelSpeeds = 0x05,
     Welcome = 0x81,
     Frame = 0x82,
     State = 0x83,
@@ -69,6 +71,9 @@ std::optional<QJsonObject> parseJsonObject(const QByteArray& payload, QString* e
 QByteArray encodeVoltages(const std::vector<std::pair<int, Voltages>>& entries);
 // Checks the layout only (sizes); robots and values are the server's to check.
 std::optional<std::vector<std::pair<int, Voltages>>> decodeVoltages(const QByteArray& payload, QString* error);
+// WHEEL_SPEEDS: the same layout, in rad/s: targets for the robots' speed loops.
+QByteArray encodeWheelSpeeds(const std::vector<std::pair<int, WheelSpeeds>>& entries);
+std::optional<std::vector<std::pair<int, WheelSpeeds>>> decodeWheelSpeeds(const QByteArray& payload, QString* error);
 
 // FRAME.
 enum class FrameKind : std::uint8_t { Patches = 0, Full = 1, Background = 2 };

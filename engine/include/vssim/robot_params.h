@@ -3,6 +3,8 @@
 // two sides are independent and nothing in the engine assumes they match.
 #pragma once
 
+#include "vssim/speed_controller.h"
+
 namespace vssim {
 
 // One wheel's DC motor, referred to the wheel (gearbox folded in).
@@ -24,6 +26,9 @@ struct RobotParams {
     double max_voltage = 7.4;                     // e_max, commands are clamped to +-e_max, V
     MotorParams right;                            // side d
     MotorParams left;                             // side e
+    // The on-board wheel-speed loop (firmware, not physics): used when the
+    // robot is given wheel-speed targets instead of voltages.
+    SpeedControllerParams speed_controller;
 };
 
 }  // namespace vssim

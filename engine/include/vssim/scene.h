@@ -37,11 +37,15 @@ struct RobotSpec {
 };
 
 // A voltage change: from the first step boundary at or after time t, the
-// robot's motors see (right, left) volts until its next command.
+// robot's motors see (right, left) volts until its next command; or, with
+// `wheelSpeeds`, its speed loop follows those targets from then on.
 struct VoltageCommand {
     double t = 0.0;     // s
     int robot = 0;      // index into Scene::robots
     Voltages voltages;  // V (clamped to +-max_voltage when applied)
+    bool wheelSpeeds = false;  // true: `speeds` instead of `voltages`
+    WheelSpeeds speeds;        // rad/s, through the robot's speed loop (speed_controller.h)
+    DriveCommand drive() const { return wheelSpeeds ? DriveCommand::ofWheelSpeeds(speeds) : DriveCommand::ofVoltages(voltages); }
 };
 
 struct Scene {

@@ -1,7 +1,7 @@
-// The robot's on-board wheel-speed loop (model.md §10): what turns a
-// wheel-speed command (FIRASim's clients, the TCP WHEEL_SPEEDS message, a
-// scene's wheel_speeds commands) into the armature voltages that the motor
-// model needs, as a real VSSS robot's firmware does. One discrete PI loop
+// The robot's on-board wheel-speed loop (docs/model.md, "The on-board speed
+// loop"): what turns a wheel-speed command (FIRASim's clients, the TCP
+// WHEEL_SPEEDS message, a scene's wheel_speeds commands) into the armature
+// voltages that the motor model needs, as a real VSSS robot's firmware does. One discrete PI loop
 // per wheel, sampled every 1/rate seconds of simulated time on the measured
 // wheel speed (optionally through an incremental encoder of finite
 // resolution), its output held until the next sample (zero-order hold),
@@ -22,12 +22,12 @@ struct WheelSpeeds {
 };
 
 // The loop's parameters (scene: robot_defaults.speed_controller, and per robot).
-// The defaults suit the default robot (robot_params.h): model.md §10 gives
+// The defaults suit the default robot (robot_params.h): docs/model.md gives
 // their step response (rise time, overshoot) and docs/firasim.md plots it.
 struct SpeedControllerParams {
     double rate = 200.0;  // sampling rate, Hz (> 0): one update every 1/rate s of simulated time
-    double kp = 0.3;      // proportional gain, V per rad/s of speed error
-    double ki = 6.0;      // integral gain, V per rad of accumulated error (V/(rad/s)/s)
+    double kp = 0.6;      // proportional gain, V per rad/s of speed error
+    double ki = 10.0;     // integral gain, V per rad of accumulated error (V/(rad/s)/s)
     // Encoder counts per wheel revolution (at the wheel, after the gearbox);
     // 0 measures the exact wheel speed. With N counts the measured speed is
     // the whole counts turned in the last period times 2 pi / (N T): steps of
@@ -50,6 +50,20 @@ struct SpeedLoopState {
     Voltages output;              // the last update's voltages, V (held until the next update)
     std::int64_t sample = 0;      // index k of the next sample, at time k / rate
     std::int64_t nextStep = 0;    // the step at which sample k takes effect (first boundary at or after k / rate)
+};
+
+// The largest wheel-speed target accepted, rad/s (larger ones are clamped):
+// far beyond any VSSS motor (the default robot's free speed is about 80 rad/s).
+constexpr double kMaxWheelSpeedTarget = 1000.0;
+
+// What drives a robot's motors from now on: voltages directly, or
+// wheel-speed targets through its speed loop.
+struct DriveCommand {
+    bool wheelSpeeds = false;  // true: `speeds` through the loop; false: `voltages`
+    Voltages voltages;         // V
+    WheelSpeeds speeds;        // rad/s
+    static DriveCommand ofVoltages(const Voltages& e) { return {false, e, {}}; }
+    static DriveCommand ofWheelSpeeds(const WheelSpeeds& w) { return {true, {}, w}; }
 };
 
 // Encoder resolution above which counting makes no difference worth modelling.

@@ -97,8 +97,25 @@ public:
     // no contact possible; exposed for tests.
     std::int64_t contactFreeSteps(std::int64_t wanted) const;
 
-    // Sets a robot's voltages now (clamped to its +-max_voltage; NaN -> 0 V).
+    // Sets a robot's voltages now (clamped to its +-max_voltage; NaN -> 0 V);
+    // its speed loop, if it was following wheel speeds, stops.
     void setVoltages(int robot, const Voltages& e);
+    // Wheel-speed targets for a robot's speed loop (speed_controller.h), rad/s
+    // (NaN -> 0, clamped to +-kMaxWheelSpeedTarget). A loop that was off
+    // starts afresh (integrators at 0) and samples first at the first of its
+    // instants k / rate at or after now; one already on keeps its state and
+    // takes the new targets at its next sample. From then on the loop sets
+    // the robot's voltages at each sample (the first step boundary at or
+    // after k / rate, at most once a step) until setVoltages.
+    void setWheelSpeeds(int robot, const WheelSpeeds& target);
+    // Either of the two above.
+    void drive(int robot, const DriveCommand& command);
+    // Takes a robot off the field (false) or brings it back where it is
+    // (true; placeRobot moves it): off the field it stops (0 V, at rest, its
+    // loop off), is not integrated and takes part in no contact, and
+    // setVoltages and setWheelSpeeds leave it alone (WorldState::offField).
+    void setOnField(int robot, bool onField);
+    bool onField(int robot) const { return !state_.offField[robot]; }
     // Moves a body now (a person dragging it, a client placing it). The
     // caller checks that it lies inside the field (robotInsideField,
     // discInsideField); overlaps with other bodies are resolved by the next
@@ -117,12 +134,18 @@ private:
     struct ScheduledCommand {
         std::int64_t step;
         int robot;
-        Voltages voltages;
+        DriveCommand drive;
     };
     Scene scene_;
     WorldModel model_;
     WorldState state_;
     void applyDueCommands();
+    // The speed loops' samples due at the current step: each active loop
+    // measures its wheels and sets the robot's voltages.
+    void runSpeedLoops();
+    // The step of the next sample of any active speed loop (or `limit`).
+    std::int64_t nextLoopStep(std::int64_t limit) const;
+    bool anyOffField() const;
     // Integrates the chosen bodies (all robots when `robots` is null) by h, no contacts.
     void advanceBodies(double h, const std::vector<char>* robots, bool ball);
     void finishStep(std::int64_t steps);

@@ -11,6 +11,7 @@
 #include "vssim/robot_model.h"
 #include "vssim/robot_state.h"
 #include "vssim/scene.h"
+#include "vssim/speed_controller.h"
 
 namespace vssim {
 
@@ -30,6 +31,13 @@ struct WorldState {
     std::vector<RobotState> robots;
     std::vector<Voltages> voltages;  // applied (clamped) voltages of each robot, V
     BallState ball;
+    // Per robot: its on-board speed loop (speed_controller.h), which sets
+    // `voltages` at its samples while active.
+    std::vector<SpeedLoopState> speedLoops;
+    // Per robot: non-zero while it is off the field (FIRASim's turnon false):
+    // it keeps its pose, at rest and at 0 V, and nothing touches it or is
+    // touched by it; viewers (camera, vision, the app) do not show it.
+    std::vector<char> offField;
 };
 
 WorldState initialWorldState(const Scene& scene);

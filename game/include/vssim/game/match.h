@@ -52,6 +52,12 @@ public:
     // is on, remembered and applied when it goes on again otherwise; ignored
     // for robots of a built-in or idle team.
     void setVoltages(int robot, const Voltages& e);
+    // The same with wheel-speed targets (rad/s) for the robot's speed loop
+    // (speed_controller.h); a remote team's robots may switch between the two.
+    void setWheelSpeeds(int robot, const WheelSpeeds& w);
+    void drive(int robot, const DriveCommand& command);
+    // Takes a robot off the field or brings it back (Simulation::setOnField).
+    void setOnField(int robot, bool onField);
     // A person driving a robot by hand (V): these voltages replace its
     // team's, built-in, remote or idle, while the game is on, and 0 V while
     // it is stopped, like everybody's; nullopt gives the robot back to its
@@ -83,9 +89,9 @@ private:
     GameState game_;
     bool ticking_ = false;
     std::int64_t tickSteps_ = 1;
-    std::vector<Voltages> remote_;                   // the remote teams' last voltages, V
+    std::vector<DriveCommand> remote_;               // the remote teams' last commands (V or rad/s)
     std::vector<std::optional<Voltages>> override_;  // a person's voltages per robot, V
-    std::vector<Voltages> wanted_;                   // scratch: the voltages to apply
+    std::vector<Voltages> wanted_;                   // scratch: the built-in teams' voltages
     std::uint64_t random_;                           // splitmix64 state
     bool jitter_;                                    // a seed other than 0 was given
 
