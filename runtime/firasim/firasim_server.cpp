@@ -58,7 +58,10 @@ bool FirasimServer::listen(QString* error) {
 
 void FirasimServer::readTurn() {
     turnScheduled_ = false;
-    for (int n = 0; commands_.hasPendingDatagrams(); ++n) {
+    // Every turn reads at least once, even when Qt said readyRead and an
+    // earlier turn took the datagram already: a QUdpSocket stops notifying
+    // until readDatagram() is called after its readyRead.
+    for (int n = 0;; ++n) {
         if (n == kMaxDatagramsPerTurn) {
             // The rest waits in the kernel: vision and the other events go first.
             ++stats_.deferredTurns;
@@ -68,19 +71,18 @@ void FirasimServer::readTurn() {
             }
             return;
         }
-        const qint64 size = commands_.pendingDatagramSize();
+        // One byte more than allowed: a datagram that fills it is too long
+        // (the kernel drops the part that does not fit).
+        buffer_.resize(kMaxDatagramBytes + 1);
+        const qint64 got = commands_.readDatagram(buffer_.data(), buffer_.size());
+        if (got < 0) return;  // nothing more waits
         const std::int64_t arrivalNs = monotonicNs();
         ++stats_.datagrams;
-        if (size > kMaxDatagramBytes) {
-            char discard = 0;
-            commands_.readDatagram(&discard, 1);  // the rest of the datagram is lost
+        if (got > kMaxDatagramBytes) {
             ++stats_.oversized;
-            log(QStringLiteral("a datagram of %1 bytes dropped unread (at most %2)").arg(size).arg(kMaxDatagramBytes));
+            log(QStringLiteral("a datagram of more than %1 bytes dropped").arg(kMaxDatagramBytes));
             continue;
         }
-        buffer_.resize(static_cast<qsizetype>(std::max<qint64>(size, 1)));
-        const qint64 got = commands_.readDatagram(buffer_.data(), buffer_.size());
-        if (got < 0) continue;
         buffer_.resize(static_cast<qsizetype>(got));
         handleDatagram(buffer_, arrivalNs);
     }

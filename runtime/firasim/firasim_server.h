@@ -16,7 +16,7 @@
 //
 // A flood: at most kMaxDatagramsPerTurn datagrams are read per turn of the
 // event loop; the rest waits in the kernel (whose buffer, kReceiveBufferBytes,
-// drops beyond). A datagram longer than kMaxDatagramBytes is dropped unread.
+// drops beyond). A datagram longer than kMaxDatagramBytes is dropped (counted).
 // Every bad input is counted (stats()) and logged through a RateLimitedLog.
 //
 // Sync mode (--firasim-sync): the engine runs in lockstep; every Packet that
@@ -61,7 +61,7 @@ struct FirasimStats {
     std::int64_t replacements = 0;       // bodies placed, taken off or brought back
     std::int64_t steps = 0;              // sync mode: steps posted
     std::int64_t malformed = 0;          // not a Packet
-    std::int64_t oversized = 0;          // longer than kMaxDatagramBytes, dropped unread
+    std::int64_t oversized = 0;          // longer than kMaxDatagramBytes, dropped
     std::int64_t unknownRobots = 0;      // commands or replacements for robots the scene lacks
     std::int64_t clampedSpeeds = 0;      // NaN, infinite or too large wheel speeds
     std::int64_t refusedReplacements = 0;  // outside the field, overlapping, non-finite
