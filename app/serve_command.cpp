@@ -135,9 +135,10 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption visionRate("vision-rate", "Hz", "HZ");
     const QCommandLineOption multicastTtl("multicast-ttl", "hops", "N");
     const QCommandLineOption firasimSync("firasim-sync", "sync");
-    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands,
-                       readOnlyObservers, yellow, blue, referee, firasim, firasimPort, visionAddress, visionPort,
-                       visionRate, multicastTtl, firasimSync});
+    parser.addOptions({help,          port,         listen,     speed,         lockstep,
+                       paused,        helloTimeout, quitAfter,  sceneCommands, readOnlyObservers,
+                       yellow,        blue,         referee,    firasim,       firasimPort,
+                       visionAddress, visionPort,   visionRate, multicastTtl,  firasimSync});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -197,8 +198,7 @@ int serveCommand(const QStringList& arguments) {
     // FIRASim's interface.
     FirasimSettings fira;
     const bool firasimOn = parser.isSet(firasim) || parser.isSet(firasimSync);
-    for (const QCommandLineOption* option :
-         {&firasimPort, &visionAddress, &visionPort, &visionRate, &multicastTtl}) {
+    for (const QCommandLineOption* option : {&firasimPort, &visionAddress, &visionPort, &visionRate, &multicastTtl}) {
         if (parser.isSet(*option) && !firasimOn)
             return usage(QStringLiteral("--%1 needs --firasim").arg(option->names().first()));
     }
@@ -209,7 +209,8 @@ int serveCommand(const QStringList& arguments) {
         fira.sync = true;
     }
     fira.listenAddress = server.address;
-    for (const auto& [option, out] : {std::pair{&firasimPort, &fira.commandPort}, std::pair{&visionPort, &fira.visionPort}}) {
+    for (const auto& [option, out] :
+         {std::pair{&firasimPort, &fira.commandPort}, std::pair{&visionPort, &fira.visionPort}}) {
         if (!parser.isSet(*option)) continue;
         const std::optional<quint16> value = parsePort(parser.value(*option));
         if (!value)
@@ -230,7 +231,8 @@ int serveCommand(const QStringList& arguments) {
         bool ok = false;
         const int value = parser.value(multicastTtl).toInt(&ok);
         if (!ok || value < 0 || value > 255)
-            return usage(QStringLiteral("--multicast-ttl: expected 0 to 255, got \"%1\"").arg(parser.value(multicastTtl)));
+            return usage(
+                QStringLiteral("--multicast-ttl: expected 0 to 255, got \"%1\"").arg(parser.value(multicastTtl)));
         fira.multicastTtl = value;
     }
     double rate = 60.0;  // FIRASim vision, Hz asked for
@@ -346,7 +348,8 @@ int serveCommand(const QStringList& arguments) {
             .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue)));
 
     if (firasimServer)
-        log(QStringLiteral("firasim: %1 vision every %2 s of simulated time (%3 Hz; %6 Hz asked for, the period in whole steps%7)%4; goals in the vision: %5")
+        log(QStringLiteral("firasim: %1 vision every %2 s of simulated time (%3 Hz; %6 Hz asked for, the period in "
+                           "whole steps%7)%4; goals in the vision: %5")
                 .arg(fira.visionAddress.isMulticast()
                          ? QStringLiteral("multicast (TTL %1, loopback on)").arg(fira.multicastTtl)
                          : QStringLiteral("unicast"))
@@ -354,10 +357,9 @@ int serveCommand(const QStringList& arguments) {
                 .arg(1.0 / engine.framePeriod(), 0, 'g', 6)
                 .arg(fira.sync ? QStringLiteral("; sync: each command packet steps one period") : QString())
                 .arg(game.rules.referee ? QStringLiteral("the built-in referee's")
-                                        : externalReferee
-                                              ? QStringLiteral("counted from the ball (--referee external: the "
-                                                               "built-in referee is off, an external one decides)")
-                                              : QStringLiteral("counted from the ball (no built-in referee)"))
+                     : externalReferee  ? QStringLiteral("counted from the ball (--referee external: the "
+                                                          "built-in referee is off, an external one decides)")
+                                        : QStringLiteral("counted from the ball (no built-in referee)"))
                 .arg(rate)
                 .arg(scene->game.rules.referee || scene->game.yellow == TeamControl::Builtin ||
                              scene->game.blue == TeamControl::Builtin

@@ -310,12 +310,12 @@ void TestFirasim::badInput() {
     // Outside the field, onto another robot, onto the ball, non-finite: refused; the rest applies.
     const Environment before = env;
     Packet q;
-    replaceRobot(q, true, 0, 1.0, 0.0, 0.0);                                     // beyond the goal line
-    replaceRobot(q, true, 1, 0.74, 0.6, 0.0);                                    // into a corner
-    replaceRobot(q, true, 2, b0->x() + 0.03, b0->y(), 0.0);                      // onto blue 0
+    replaceRobot(q, true, 0, 1.0, 0.0, 0.0);                                               // beyond the goal line
+    replaceRobot(q, true, 1, 0.74, 0.6, 0.0);                                              // into a corner
+    replaceRobot(q, true, 2, b0->x() + 0.03, b0->y(), 0.0);                                // onto blue 0
     replaceRobot(q, false, 2, before.frame().ball().x(), before.frame().ball().y(), 0.0);  // onto the ball
-    replaceRobot(q, false, 1, std::nan(""), 0.0, 0.0);                           // NaN
-    replaceBall(q, 0.0, 0.9, 0.0, 0.0);                                          // outside
+    replaceRobot(q, false, 1, std::nan(""), 0.0, 0.0);                                     // NaN
+    replaceBall(q, 0.0, 0.9, 0.0, 0.0);                                                    // outside
     env = f.step(q);
     QCOMPARE(f.server->stats().refusedReplacements, std::int64_t{6});
     for (const auto& [yellow, id] : {std::pair{true, 0u}, {true, 1u}, {true, 2u}, {false, 1u}, {false, 2u}}) {
@@ -370,11 +370,12 @@ void TestFirasim::flood() {
     std::optional<Environment> env = f.after(500);
     QVERIFY(env);
     const FirasimStats& s = f.server->stats();
-    qInfo("flood: %lld datagrams read (the kernel dropped the rest), %lld malformed, %lld unknown robots, %lld "
-          "clamped, %lld busy, %lld deferred turns; %d Environments during the flood",
-          static_cast<long long>(s.datagrams), static_cast<long long>(s.malformed),
-          static_cast<long long>(s.unknownRobots), static_cast<long long>(s.clampedSpeeds),
-          static_cast<long long>(s.busy), static_cast<long long>(s.deferredTurns), visionDuringFlood);
+    qInfo(
+        "flood: %lld datagrams read (the kernel dropped the rest), %lld malformed, %lld unknown robots, %lld "
+        "clamped, %lld busy, %lld deferred turns; %d Environments during the flood",
+        static_cast<long long>(s.datagrams), static_cast<long long>(s.malformed),
+        static_cast<long long>(s.unknownRobots), static_cast<long long>(s.clampedSpeeds),
+        static_cast<long long>(s.busy), static_cast<long long>(s.deferredTurns), visionDuringFlood);
     QVERIFY(s.datagrams > 0);
     QVERIFY(s.malformed > 0 && s.unknownRobots > 0 && s.clampedSpeeds > 0);
     // Blue untouched: where it started.

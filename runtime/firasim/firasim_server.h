@@ -43,33 +43,33 @@
 namespace vssim {
 
 struct FirasimSettings {
-    QHostAddress listenAddress = QHostAddress::LocalHost;  // where commands are received
-    quint16 commandPort = 20011;                           // 0: any free port
+    QHostAddress listenAddress = QHostAddress::LocalHost;                    // where commands are received
+    quint16 commandPort = 20011;                                             // 0: any free port
     QHostAddress visionAddress = QHostAddress(QStringLiteral("224.0.0.1"));  // multicast group or unicast host
     quint16 visionPort = 10002;
-    int multicastTtl = 0;          // hops: 0 keeps the vision on this machine
-    bool multicastLoopback = true; // this machine's own sockets get the multicast too
-    bool sync = false;             // the engine is in lockstep: each command packet steps one vision period
-    bool countGoals = true;        // with the built-in referee off: count goals from the ball
+    int multicastTtl = 0;           // hops: 0 keeps the vision on this machine
+    bool multicastLoopback = true;  // this machine's own sockets get the multicast too
+    bool sync = false;              // the engine is in lockstep: each command packet steps one vision period
+    bool countGoals = true;         // with the built-in referee off: count goals from the ball
 };
 
 // What the server has seen and done since it started.
 struct FirasimStats {
-    std::int64_t datagrams = 0;          // received (read)
-    std::int64_t commandPackets = 0;     // parsed packets with commands
-    std::int64_t commands = 0;           // robot commands applied
-    std::int64_t replacements = 0;       // bodies placed, taken off or brought back
-    std::int64_t steps = 0;              // sync mode: steps posted
-    std::int64_t malformed = 0;          // not a Packet
-    std::int64_t oversized = 0;          // longer than kMaxDatagramBytes, dropped
-    std::int64_t unknownRobots = 0;      // commands or replacements for robots the scene lacks
-    std::int64_t clampedSpeeds = 0;      // NaN, infinite or too large wheel speeds
+    std::int64_t datagrams = 0;            // received (read)
+    std::int64_t commandPackets = 0;       // parsed packets with commands
+    std::int64_t commands = 0;             // robot commands applied
+    std::int64_t replacements = 0;         // bodies placed, taken off or brought back
+    std::int64_t steps = 0;                // sync mode: steps posted
+    std::int64_t malformed = 0;            // not a Packet
+    std::int64_t oversized = 0;            // longer than kMaxDatagramBytes, dropped
+    std::int64_t unknownRobots = 0;        // commands or replacements for robots the scene lacks
+    std::int64_t clampedSpeeds = 0;        // NaN, infinite or too large wheel speeds
     std::int64_t refusedReplacements = 0;  // outside the field, overlapping, non-finite
-    std::int64_t busy = 0;               // packets (or parts) dropped: the sender's quota was full
-    std::int64_t deferredTurns = 0;      // turns that left datagrams in the kernel (a flood)
-    std::int64_t visionSent = 0;         // Environments sent
-    std::int64_t visionDropped = 0;      // Environments the main thread did not take in time
-    std::int64_t sendErrors = 0;         // Environments the socket refused
+    std::int64_t busy = 0;                 // packets (or parts) dropped: the sender's quota was full
+    std::int64_t deferredTurns = 0;        // turns that left datagrams in the kernel (a flood)
+    std::int64_t visionSent = 0;           // Environments sent
+    std::int64_t visionDropped = 0;        // Environments the main thread did not take in time
+    std::int64_t sendErrors = 0;           // Environments the socket refused
     std::int64_t errors() const {
         return malformed + oversized + unknownRobots + clampedSpeeds + refusedReplacements + busy;
     }

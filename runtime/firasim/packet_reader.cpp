@@ -58,7 +58,8 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
         const int robot = roster.robotIndex(team, c.id());
         if (robot < 0) {
             ++out.unknownRobots;
-            note(out, QStringLiteral("command for %1 robot %2: no such robot").arg(teamWord(c.yellowteam())).arg(c.id()));
+            note(out,
+                 QStringLiteral("command for %1 robot %2: no such robot").arg(teamWord(c.yellowteam())).arg(c.id()));
             continue;
         }
         bool changedRight = false, changedLeft = false;
@@ -112,7 +113,8 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
         const int robot = roster.robotIndex(team, id);
         if (robot < 0) {
             ++out.unknownRobots;
-            note(out, QStringLiteral("replacement of %1 robot %2: no such robot").arg(teamWord(r.yellowteam())).arg(id));
+            note(out,
+                 QStringLiteral("replacement of %1 robot %2: no such robot").arg(teamWord(r.yellowteam())).arg(id));
             continue;
         }
         if (!r.turnon()) {
@@ -127,7 +129,9 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
         pose.theta = std::remainder(degrees * kPi / 180.0, 2.0 * kPi);
         if (!finite({pose.x, pose.y, degrees})) {
             ++out.refusedBad;
-            note(out, QStringLiteral("replacement of %1 robot %2 refused: non-finite pose").arg(teamWord(r.yellowteam())).arg(id));
+            note(out, QStringLiteral("replacement of %1 robot %2 refused: non-finite pose")
+                          .arg(teamWord(r.yellowteam()))
+                          .arg(id));
             continue;
         }
         if (!robotInsideField(field, scene.robots[robot].params.side, pose.x, pose.y, pose.theta)) {
@@ -190,7 +194,8 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
     }
     if (ball) {
         for (std::size_t j = 0; j < n; ++j) {
-            if (!present[j] || !robotBallContact(poses[j], scene.robots[j].params.side, static_cast<int>(j), *ball, radius))
+            if (!present[j] ||
+                !robotBallContact(poses[j], scene.robots[j].params.side, static_cast<int>(j), *ball, radius))
                 continue;
             ++out.refusedOverlap;
             note(out, QStringLiteral("ball replacement at (%1, %2) m refused: it would overlap %3")

@@ -53,15 +53,15 @@ struct FirasimPacket {
     bool hasCommands = false;  // the `cmd` field was present (even empty): a tick in sync mode
     // Wheel speeds by team ([Yellow], [Blue]): (robot index, rad/s), one per robot.
     std::array<std::vector<std::pair<int, WheelSpeeds>>, 2> wheelSpeeds;
-    std::optional<BallState> ball;            // an accepted ball replacement
-    std::vector<FirasimPlacement> robots;     // accepted robot replacements
-    std::vector<int> turnOff;                 // robots to take off the field
+    std::optional<BallState> ball;         // an accepted ball replacement
+    std::vector<FirasimPlacement> robots;  // accepted robot replacements
+    std::vector<int> turnOff;              // robots to take off the field
     // Problems, counted by kind.
-    int unknownRobots = 0;      // commands and replacements for robots the scene does not have
-    int clampedSpeeds = 0;      // wheel speeds that were NaN, infinite or beyond the limit
-    int refusedOutside = 0;     // replacements outside the field
-    int refusedOverlap = 0;     // replacements onto another body
-    int refusedBad = 0;         // replacements with non-finite numbers or too fast a ball
+    int unknownRobots = 0;          // commands and replacements for robots the scene does not have
+    int clampedSpeeds = 0;          // wheel speeds that were NaN, infinite or beyond the limit
+    int refusedOutside = 0;         // replacements outside the field
+    int refusedOverlap = 0;         // replacements onto another body
+    int refusedBad = 0;             // replacements with non-finite numbers or too fast a ball
     std::vector<QString> problems;  // one line each, for the log (bounded)
 };
 

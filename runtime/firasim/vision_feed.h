@@ -34,10 +34,10 @@ class EngineThread;
 
 // One vision message, serialised, and what it shows.
 struct VisionItem {
-    QByteArray bytes;         // a serialised fira_message.sim_to_ref.Environment
-    std::int64_t step = 0;    // simulation step
-    std::int64_t frame = 0;   // camera instant number
-    bool lockstepEnd = false; // the instant that ends a `step` request
+    QByteArray bytes;          // a serialised fira_message.sim_to_ref.Environment
+    std::int64_t step = 0;     // simulation step
+    std::int64_t frame = 0;    // camera instant number
+    bool lockstepEnd = false;  // the instant that ends a `step` request
 };
 
 class VisionFeed {
