@@ -10,7 +10,9 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <memory>
 
+#include "firasim/firasim_server.h"
 #include "io/scene_io.h"
 #include "net/control_server.h"
 #include "net/network_address.h"
@@ -31,6 +33,10 @@ QTextStream& err() {
 }
 
 }  // namespace
+
+// The FIRASim vision rates accepted, Hz of simulated time.
+constexpr double kMinVisionRate = 1.0;
+constexpr double kMaxVisionRate = 1000.0;
 
 QString serveHelpText() {
     return QStringLiteral(
@@ -60,18 +66,37 @@ QString serveHelpText() {
                "                       (vssim's built-in team), tcp (a client: HELLO as that team) or idle\n"
                "                       (nobody: 0 V). A team that is not tcp refuses clients (ERROR\n"
                "                       role_not_remote)\n"
-               "  --referee on|off     the automatic referee (score, clock, fouls, placements; needs a field\n"
-               "                       with goals), overriding the scene's game.referee\n"
+               "  --referee on|off|external\n"
+               "                       the automatic referee (score, clock, fouls, placements; needs a field\n"
+               "                       with goals), overriding the scene's game.referee; external: off, for a\n"
+               "                       referee of your own such as VSSReferee (needs --firasim; the FIRASim\n"
+               "                       vision then counts the goals from the ball)\n"
                "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
                "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
                "  -h, --help           this help\n"
+               "\n"
+               "FIRASim's interface (docs/firasim.md), beside the TCP server:\n"
+               "  --firasim            receive FIRASim commands and replacement (UDP, on the --listen\n"
+               "                       address) and send FIRASim vision at every camera instant\n"
+               "  --firasim-port N     UDP port for commands and replacement (default %7; 0: any free port)\n"
+               "  --vision-address ADDR\n"
+               "                       where the vision goes: a multicast group or a unicast host\n"
+               "                       (default %8)\n"
+               "  --vision-port N      vision UDP port (default %9)\n"
+               "  --vision-rate HZ     vision (and camera) messages per second of simulated time, %10 to %11\n"
+               "                       (default 60; the period is rounded to whole steps)\n"
+               "  --multicast-ttl N    multicast hops, 0 to 255 (default 0: this machine only)\n"
+               "  --firasim-sync       lockstep driven by FIRASim: each packet with commands advances one\n"
+               "                       vision period and its vision goes out at the end (implies --firasim;\n"
+               "                       excludes --speed and --lockstep)\n"
                "\n"
                "Clients are served fairly, and what the server holds for them is bounded: at most %2\n"
                "connections (when full, the oldest one without HELLO makes room for a new one), %3\n"
                "ERRORs per client in %4 s, %5 MiB unsent for a client and %6 MiB for all (a client that\n"
                "does not read is disconnected): docs/protocol.md, Limits.\n"
                "\n"
-               "On start it prints \"listening on ADDR:PORT\" on standard output; the log (connections,\n"
+               "On start it prints \"listening on ADDR:PORT\" on standard output (and, with --firasim,\n"
+               "\"firasim: commands on ADDR:PORT, vision to ADDR:PORT\"); the log (connections,\n"
                "errors, disconnections) goes to standard error. Stop it with Ctrl-C.\n"
                "Exit status: 0 stopped, 1 cannot listen, 2 bad usage or scene.\n")
         .arg(protocol::kDefaultPort)
@@ -79,7 +104,12 @@ QString serveHelpText() {
         .arg(kMaxErrorsPerWindow)
         .arg(kErrorWindowNs / 1'000'000'000)
         .arg(ServerSettings{}.maxUnsentBytes >> 20)
-        .arg(ServerSettings{}.maxTotalUnsentBytes >> 20);
+        .arg(ServerSettings{}.maxTotalUnsentBytes >> 20)
+        .arg(FirasimSettings{}.commandPort)
+        .arg(FirasimSettings{}.visionAddress.toString())
+        .arg(FirasimSettings{}.visionPort)
+        .arg(kMinVisionRate)
+        .arg(kMaxVisionRate);
 }
 
 int serveCommand(const QStringList& arguments) {
@@ -97,9 +127,18 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption readOnlyObservers("read-only-observers", "read-only observers");
     const QCommandLineOption yellow("yellow", "control", "CONTROL");
     const QCommandLineOption blue("blue", "control", "CONTROL");
-    const QCommandLineOption referee("referee", "on|off", "ON");
-    parser.addOptions({help, port, listen, speed, lockstep, paused, helloTimeout, quitAfter, sceneCommands,
-                       readOnlyObservers, yellow, blue, referee});
+    const QCommandLineOption referee("referee", "on|off|external", "ON");
+    const QCommandLineOption firasim("firasim", "firasim");
+    const QCommandLineOption firasimPort("firasim-port", "port", "N");
+    const QCommandLineOption visionAddress("vision-address", "address", "ADDR");
+    const QCommandLineOption visionPort("vision-port", "port", "N");
+    const QCommandLineOption visionRate("vision-rate", "Hz", "HZ");
+    const QCommandLineOption multicastTtl("multicast-ttl", "hops", "N");
+    const QCommandLineOption firasimSync("firasim-sync", "sync");
+    parser.addOptions({help,          port,         listen,     speed,         lockstep,
+                       paused,        helloTimeout, quitAfter,  sceneCommands, readOnlyObservers,
+                       yellow,        blue,         referee,    firasim,       firasimPort,
+                       visionAddress, visionPort,   visionRate, multicastTtl,  firasimSync});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -156,6 +195,59 @@ int serveCommand(const QStringList& arguments) {
         if (parser.isSet(speed)) return usage("--lockstep and --speed exclude each other");
         loop.mode = RunMode::Lockstep;
     }
+    // FIRASim's interface.
+    FirasimSettings fira;
+    const bool firasimOn = parser.isSet(firasim) || parser.isSet(firasimSync);
+    for (const QCommandLineOption* option : {&firasimPort, &visionAddress, &visionPort, &visionRate, &multicastTtl}) {
+        if (parser.isSet(*option) && !firasimOn)
+            return usage(QStringLiteral("--%1 needs --firasim").arg(option->names().first()));
+    }
+    if (parser.isSet(firasimSync)) {
+        if (parser.isSet(speed)) return usage("--firasim-sync and --speed exclude each other");
+        if (parser.isSet(lockstep)) return usage("--firasim-sync and --lockstep exclude each other");
+        loop.mode = RunMode::Lockstep;
+        fira.sync = true;
+    }
+    fira.listenAddress = server.address;
+    for (const auto& [option, out] :
+         {std::pair{&firasimPort, &fira.commandPort}, std::pair{&visionPort, &fira.visionPort}}) {
+        if (!parser.isSet(*option)) continue;
+        const std::optional<quint16> value = parsePort(parser.value(*option));
+        if (!value)
+            return usage(QStringLiteral("--%1: expected 0 to 65535, got \"%2\"")
+                             .arg(option->names().first(), parser.value(*option)));
+        *out = *value;
+    }
+    if (parser.isSet(visionPort) && fira.visionPort == 0)
+        return usage("--vision-port: expected 1 to 65535 (the port the vision is sent to), got 0");
+    if (parser.isSet(visionAddress)) {
+        QHostAddress address;
+        if (!address.setAddress(parser.value(visionAddress)))
+            return usage(QStringLiteral("--vision-address: \"%1\" is not an IPv4 or IPv6 address")
+                             .arg(parser.value(visionAddress)));
+        fira.visionAddress = address;
+    }
+    if (parser.isSet(multicastTtl)) {
+        bool ok = false;
+        const int value = parser.value(multicastTtl).toInt(&ok);
+        if (!ok || value < 0 || value > 255)
+            return usage(
+                QStringLiteral("--multicast-ttl: expected 0 to 255, got \"%1\"").arg(parser.value(multicastTtl)));
+        fira.multicastTtl = value;
+    }
+    double rate = 60.0;  // FIRASim vision, Hz asked for
+    if (firasimOn) {
+        if (parser.isSet(visionRate)) {
+            bool ok = false;
+            rate = parser.value(visionRate).toDouble(&ok);
+            if (!ok || !std::isfinite(rate) || rate < kMinVisionRate || rate > kMaxVisionRate)
+                return usage(QStringLiteral("--vision-rate: expected %1 to %2 messages per second, got \"%3\"")
+                                 .arg(kMinVisionRate)
+                                 .arg(kMaxVisionRate)
+                                 .arg(parser.value(visionRate)));
+        }
+        loop.framePeriod = 1.0 / rate;
+    }
     double helloSeconds = 5.0;
     if (parser.isSet(helloTimeout) && !seconds(helloTimeout, "hello-timeout", &helloSeconds)) return 2;
     server.helloTimeoutMs = static_cast<int>(std::ceil(helloSeconds * 1000));
@@ -186,10 +278,14 @@ int serveCommand(const QStringList& arguments) {
                 QStringLiteral("--%1: expected builtin, tcp or idle, got \"%2\"").arg(option->names().first(), text));
         *control = *value;
     }
+    bool externalReferee = false;
     if (parser.isSet(referee)) {
         const QString text = parser.value(referee);
-        if (text != "on" && text != "off")
-            return usage(QStringLiteral("--referee: expected on or off, got \"%1\"").arg(text));
+        if (text != "on" && text != "off" && text != "external")
+            return usage(QStringLiteral("--referee: expected on, off or external, got \"%1\"").arg(text));
+        externalReferee = text == "external";
+        if (externalReferee && !firasimOn)
+            return usage("--referee external needs --firasim (the external referee speaks FIRASim's interface)");
         scene->game.rules.referee = text == "on";
         if (scene->game.rules.referee && !fieldHasGoals(scene->field))
             return usage(QStringLiteral("--referee on: %1: %2").arg(scenePath, refereeFieldProblem()));
@@ -213,6 +309,15 @@ int serveCommand(const QStringList& arguments) {
         err() << "vssim serve: " << error << "\n";
         return 1;
     }
+    std::unique_ptr<FirasimServer> firasimServer;
+    if (firasimOn) {
+        firasimServer = std::make_unique<FirasimServer>(*scene, engine, fira);
+        QObject::connect(firasimServer.get(), &FirasimServer::logLine, log);
+        if (!firasimServer->listen(&error)) {
+            err() << "vssim serve: " << error << "\n";
+            return 1;
+        }
+    }
     if (parser.isSet(paused)) {
         EngineRequest pause;
         pause.kind = EngineRequest::Kind::Pause;
@@ -222,6 +327,9 @@ int serveCommand(const QStringList& arguments) {
     engine.start();
     QTextStream out(stdout);
     out << "listening on " << control.address().toString() << ":" << control.port() << "\n";
+    if (firasimServer)
+        out << "firasim: commands on " << firasimServer->address().toString() << ":" << firasimServer->port()
+            << ", vision to " << fira.visionAddress.toString() << ":" << fira.visionPort << "\n";
     out.flush();
     const GameSettings& game = scene->game;
     log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7; referee %8, yellow %9, blue %10")
@@ -239,6 +347,25 @@ int serveCommand(const QStringList& arguments) {
             .arg(game.yellow == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.yellow))
             .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue)));
 
+    if (firasimServer)
+        log(QStringLiteral("firasim: %1 vision every %2 s of simulated time (%3 Hz; %6 Hz asked for, the period in "
+                           "whole steps%7)%4; goals in the vision: %5")
+                .arg(fira.visionAddress.isMulticast()
+                         ? QStringLiteral("multicast (TTL %1, loopback on)").arg(fira.multicastTtl)
+                         : QStringLiteral("unicast"))
+                .arg(engine.framePeriod())
+                .arg(1.0 / engine.framePeriod(), 0, 'g', 6)
+                .arg(fira.sync ? QStringLiteral("; sync: each command packet steps one period") : QString())
+                .arg(game.rules.referee ? QStringLiteral("the built-in referee's")
+                     : externalReferee  ? QStringLiteral("counted from the ball (--referee external: the "
+                                                          "built-in referee is off, an external one decides)")
+                                        : QStringLiteral("counted from the ball (no built-in referee)"))
+                .arg(rate)
+                .arg(scene->game.rules.referee || scene->game.yellow == TeamControl::Builtin ||
+                             scene->game.blue == TeamControl::Builtin
+                         ? QStringLiteral(" and game ticks")
+                         : QString()));
+
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);
     QTimer signalPoll;
@@ -249,6 +376,7 @@ int serveCommand(const QStringList& arguments) {
     if (quitSeconds > 0) QTimer::singleShot(static_cast<int>(quitSeconds * 1000), [] { QCoreApplication::quit(); });
     QCoreApplication::exec();
     log("stopping");
+    firasimServer.reset();
     engine.requestStop();
     engine.wait();
     std::signal(SIGINT, SIG_DFL);

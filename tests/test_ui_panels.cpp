@@ -1,6 +1,7 @@
 // The desktop app's read-only panels (robot inspector, live plots,
 // connections, camera view, status line), fed hand-made snapshots.
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QLabel>
 #include <QPushButton>
@@ -114,6 +115,7 @@ private slots:
     void plotsThinBeyondTheCap();
     void plotsDrawEveryChart();
     void connectionsShowRowsAndRates();
+    void connectionsFirasimSwitch();
     void cameraViewMatchesTheRenderer();
     void statusLine();
     void scoreboardShowsTheGame();
@@ -286,6 +288,21 @@ void TestUiPanels::connectionsShowRowsAndRates() {
     newcomer.greeted = false;
     panel.setClients({newcomer}, 1.0);
     QVERIFY(cell(0, ConnectionsPanel::Role).contains("HELLO"));
+}
+
+void TestUiPanels::connectionsFirasimSwitch() {
+    ConnectionsPanel panel;
+    QVERIFY(!panel.firasimBox()->isChecked());
+    QCOMPARE(panel.firasimLabel()->text(), QStringLiteral("off"));
+    QSignalSpy toggled(&panel, &ConnectionsPanel::firasimToggled);
+    panel.firasimBox()->click();
+    QCOMPARE(toggled.size(), 1);
+    QCOMPARE(toggled.first().first().toBool(), true);
+    // The owner could not start it: unchecked again, and why, without a signal.
+    panel.showFirasimOff(QStringLiteral("port 20011 taken"));
+    QVERIFY(!panel.firasimBox()->isChecked());
+    QVERIFY(panel.firasimLabel()->text().contains("port 20011 taken"));
+    QCOMPARE(toggled.size(), 1);
 }
 
 void TestUiPanels::cameraViewMatchesTheRenderer() {

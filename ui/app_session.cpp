@@ -5,8 +5,9 @@
 namespace vssim {
 
 AppSession::AppSession(const Scene& scene, const ServerSettings& server, QObject* parent)
-    : QObject(parent), scene_(scene) {
+    : QObject(parent), scene_(scene), serverSettings_(server) {
     engine_ = std::make_unique<EngineThread>(scene_, EngineLoopSettings{});
+    feed_ = VisionFeed::attach(*engine_);
     server_ = std::make_unique<ControlServer>(scene_, *engine_, server);
     connect(server_.get(), &ControlServer::logLine, this, &AppSession::logLine);
     listening_ = server_->listen(&listenError_);
@@ -14,6 +15,7 @@ AppSession::AppSession(const Scene& scene, const ServerSettings& server, QObject
 }
 
 AppSession::~AppSession() {
+    firasim_.reset();
     server_.reset();
     engine_->requestStop();
     engine_->wait();
@@ -75,9 +77,28 @@ void AppSession::applySettings(const SimulationSettings& settings) {
     post(std::move(r));
 }
 
+bool AppSession::startFirasim(QString* error) {
+    if (firasim_) return true;
+    FirasimSettings settings;
+    settings.listenAddress = serverSettings_.address;
+    auto server = std::make_unique<FirasimServer>(scene_, *engine_, settings, feed_);
+    connect(server.get(), &FirasimServer::logLine, this, &AppSession::logLine);
+    if (!server->listen(error)) return false;
+    firasim_ = std::move(server);
+    return true;
+}
+
+void AppSession::stopFirasim() { firasim_.reset(); }
+
 void AppSession::loadScene(const Scene& scene, bool paused) {
     scene_ = scene;
     server_->setScene(scene_);
+    if (firasim_) {
+        // Its robots and field are the old scene's: start again on the new one.
+        firasim_.reset();
+        QString error;
+        if (!startFirasim(&error)) emit logLine(QStringLiteral("firasim: not restarted: %1").arg(error));
+    }
     EngineRequest r;
     r.kind = EngineRequest::Kind::LoadScene;
     r.scene = std::make_shared<const Scene>(scene_);

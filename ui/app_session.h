@@ -6,6 +6,8 @@
 #include <QObject>
 #include <memory>
 
+#include "firasim/firasim_server.h"
+#include "firasim/vision_feed.h"
 #include "net/control_server.h"
 #include "realtime/engine_thread.h"
 #include "realtime/snapshot.h"
@@ -44,6 +46,14 @@ public:
     quint16 port() const { return server_->port(); }
     const ControlServer& server() const { return *server_; }
 
+    // FIRASim's interface (docs/firasim.md) beside the TCP server, on its
+    // defaults (commands on the TCP server's address, port 20011; vision to
+    // 224.0.0.1:10002 at every camera instant). Started and stopped at will;
+    // a new scene restarts it on that scene.
+    bool startFirasim(QString* error);
+    void stopFirasim();
+    const FirasimServer* firasim() const { return firasim_.get(); }
+
 signals:
     void logLine(const QString& line);
 
@@ -51,6 +61,9 @@ private:
     Scene scene_;
     std::unique_ptr<EngineThread> engine_;
     std::unique_ptr<ControlServer> server_;
+    ServerSettings serverSettings_;
+    std::shared_ptr<VisionFeed> feed_;  // attached before the engine starts, fed while FIRASim runs
+    std::unique_ptr<FirasimServer> firasim_;
     bool listening_ = false;
     QString listenError_;
 };

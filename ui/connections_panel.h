@@ -7,8 +7,10 @@
 #include <map>
 #include <vector>
 
+#include "firasim/firasim_server.h"
 #include "net/control_server.h"
 
+class QCheckBox;
 class QLabel;
 class QTableWidget;
 
@@ -40,12 +42,24 @@ public:
     // seen twice (blank before, or when secondsSinceLast <= 0).
     void setClients(const std::vector<ClientInfo>& clients, double secondsSinceLast);
 
+    // FIRASim's interface: its switch, and one status line (ports, packets, errors).
+    void showFirasim(const FirasimServer& server);
+    void showFirasimOff(const QString& why = {});  // unchecked; `why` it is off (e.g. the port is taken)
+
     QTableWidget* table() const { return table_; }
+    QCheckBox* firasimBox() const { return firasim_; }
+    QLabel* firasimLabel() const { return firasimStatus_; }
     QLabel* listeningLabel() const { return listening_; }
+
+signals:
+    // The person switched FIRASim's interface on or off.
+    void firasimToggled(bool on);
 
 private:
     QLabel* listening_;
     QTableWidget* table_;
+    QCheckBox* firasim_;
+    QLabel* firasimStatus_;
     std::map<int, std::int64_t> lastCommands_;  // client id -> its command count at the previous call
 };
 

@@ -213,8 +213,20 @@ void MainWindow::buildDocks() {
     });
 
     connections_ = new ConnectionsPanel;
-    connections_->setMaximumHeight(170);
+    connections_->setMaximumHeight(195);  // the listening line, the FIRASim line, a few rows
     dock(tr("TCP connections"), connections_, Qt::BottomDockWidgetArea, "dock.connections");
+    connect(connections_, &ConnectionsPanel::firasimToggled, this, [this](bool on) {
+        if (!on) {
+            session_->stopFirasim();
+            connections_->showFirasimOff();
+            return;
+        }
+        QString error;
+        if (session_->startFirasim(&error))
+            connections_->showFirasim(*session_->firasim());
+        else
+            connections_->showFirasimOff(error);
+    });
 
     auto* drive = new QWidget;
     auto* layout = new QVBoxLayout(drive);
@@ -627,6 +639,7 @@ void MainWindow::refresh() {
                              snapshot->gameSettings.blue);
     if (nowMs - lastConnectionsMs_ >= 1000) {
         connections_->setClients(session_->server().clients(), 1e-3 * static_cast<double>(nowMs - lastConnectionsMs_));
+        if (session_->firasim()) connections_->showFirasim(*session_->firasim());
         lastConnectionsMs_ = nowMs;
     }
     status_->setText(statusText(*snapshot, factor_));

@@ -1,0 +1,213 @@
+#include "firasim/firasim_server.h"
+
+#include <QTimer>
+
+#include "firasim/packet_reader.h"
+#include "realtime/monotonic_clock.h"
+
+namespace vssim {
+
+namespace {
+constexpr int kCommandsYellow = 0, kCommandsBlue = 1, kReplacements = 2;
+}
+
+FirasimServer::FirasimServer(const Scene& scene, EngineThread& engine, const FirasimSettings& settings,
+                             std::shared_ptr<VisionFeed> feed, QObject* parent)
+    : QObject(parent),
+      scene_(scene),
+      roster_(scene),
+      engine_(engine),
+      settings_(settings),
+      feed_(feed ? std::move(feed) : VisionFeed::attach(engine)),
+      commands_(this),
+      vision_(this),
+      badInput_([this](const QString& line) { emit logLine(QStringLiteral("firasim: ") + line); }) {
+    for (auto& q : queued_) q = std::make_shared<std::atomic<int>>(0);
+    connect(&commands_, &QUdpSocket::readyRead, this, &FirasimServer::readTurn);
+}
+
+FirasimServer::~FirasimServer() {
+    // No wake-up comes after this; queued ones die with the object.
+    feed_->deactivate();
+}
+
+bool FirasimServer::listen(QString* error) {
+    if (!commands_.bind(settings_.listenAddress, settings_.commandPort)) {
+        *error = QStringLiteral("FIRASim commands: cannot listen on %1:%2: %3")
+                     .arg(settings_.listenAddress.toString())
+                     .arg(settings_.commandPort)
+                     .arg(commands_.errorString());
+        return false;
+    }
+    commands_.setSocketOption(QAbstractSocket::ReceiveBufferSizeSocketOption, kReceiveBufferBytes);
+    const bool v6 = settings_.visionAddress.protocol() == QAbstractSocket::IPv6Protocol;
+    if (!vision_.bind(v6 ? QHostAddress(QHostAddress::AnyIPv6) : QHostAddress(QHostAddress::AnyIPv4), 0)) {
+        *error = QStringLiteral("FIRASim vision: cannot open a socket: %1").arg(vision_.errorString());
+        commands_.close();
+        return false;
+    }
+    if (multicast()) {
+        vision_.setSocketOption(QAbstractSocket::MulticastTtlOption, settings_.multicastTtl);
+        vision_.setSocketOption(QAbstractSocket::MulticastLoopbackOption, settings_.multicastLoopback ? 1 : 0);
+    }
+    listening_ = true;
+    feed_->activate(scene_, settings_.countGoals,
+                    [this] { QMetaObject::invokeMethod(this, &FirasimServer::sendVision, Qt::QueuedConnection); });
+    return true;
+}
+
+void FirasimServer::readTurn() {
+    turnScheduled_ = false;
+    // Every turn reads at least once, even when Qt said readyRead and an
+    // earlier turn took the datagram already: a QUdpSocket stops notifying
+    // until readDatagram() is called after its readyRead.
+    for (int n = 0;; ++n) {
+        if (n == kMaxDatagramsPerTurn) {
+            // The rest waits in the kernel: vision and the other events go first.
+            ++stats_.deferredTurns;
+            if (!turnScheduled_) {
+                turnScheduled_ = true;
+                QTimer::singleShot(0, this, &FirasimServer::readTurn);
+            }
+            return;
+        }
+        // One byte more than allowed: a datagram that fills it is too long
+        // (the kernel drops the part that does not fit).
+        buffer_.resize(kMaxDatagramBytes + 1);
+        const qint64 got = commands_.readDatagram(buffer_.data(), buffer_.size());
+        if (got < 0) return;  // nothing more waits
+        const std::int64_t arrivalNs = monotonicNs();
+        ++stats_.datagrams;
+        if (got > kMaxDatagramBytes) {
+            ++stats_.oversized;
+            log(QStringLiteral("a datagram of more than %1 bytes dropped").arg(kMaxDatagramBytes));
+            continue;
+        }
+        buffer_.resize(static_cast<qsizetype>(got));
+        handleDatagram(buffer_, arrivalNs);
+    }
+}
+
+bool FirasimServer::post(EngineRequest request, int sender) {
+    const std::shared_ptr<std::atomic<int>>& queued = queued_[static_cast<std::size_t>(sender)];
+    if (queued->load() >= kMaxQueuedPerSender) return false;
+    request.queued = queued;
+    queued->fetch_add(1);
+    if (!engine_.post(std::move(request))) {
+        queued->fetch_sub(1);
+        return false;
+    }
+    return true;
+}
+
+void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalNs) {
+    const std::optional<WorldState> latest = feed_->latestWorld();
+    const WorldState current = latest ? *latest : initialWorldState(scene_);
+    const std::vector<char> onField = feed_->onField();
+    const FirasimPacket p =
+        readFirasimPacket(data.constData(), static_cast<int>(data.size()), scene_, roster_, current, onField);
+    if (!p.parsed) {
+        ++stats_.malformed;
+        log(QStringLiteral("a datagram of %1 bytes is not a fira_message.sim_to_ref.Packet: ignored").arg(data.size()));
+        return;
+    }
+    stats_.unknownRobots += p.unknownRobots;
+    stats_.clampedSpeeds += p.clampedSpeeds;
+    stats_.refusedReplacements += p.refusedOutside + p.refusedOverlap + p.refusedBad;
+    for (const QString& line : p.problems) log(line);
+
+    const bool step = settings_.sync && p.hasCommands;
+    // Sync mode: a step for this packet must fit, or nothing of it is done.
+    if (step && queued_[kReplacements]->load() + 1 + static_cast<int>(p.robots.size()) * 2 +
+                        static_cast<int>(p.turnOff.size()) + (p.ball ? 1 : 0) >
+                    kMaxQueuedPerSender) {
+        ++stats_.busy;
+        log(QStringLiteral("sync: a command packet dropped: %1 requests already wait for the engine")
+                .arg(queued_[kReplacements]->load()));
+        return;
+    }
+    if (p.hasCommands) ++stats_.commandPackets;
+    for (int team : {kCommandsYellow, kCommandsBlue}) {
+        const auto& speeds = p.wheelSpeeds[static_cast<std::size_t>(team)];
+        if (speeds.empty()) continue;
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::WheelSpeeds;
+        r.arrivalNs = arrivalNs;
+        r.client = -1;
+        r.wheelSpeeds = speeds;
+        if (post(std::move(r), team)) {
+            stats_.commands += static_cast<std::int64_t>(speeds.size());
+        } else {
+            ++stats_.busy;
+            log(QStringLiteral("%1's commands dropped: %2 of its requests already wait for the engine")
+                    .arg(team == kCommandsYellow ? "yellow" : "blue")
+                    .arg(kMaxQueuedPerSender));
+        }
+    }
+    auto place = [&](EngineRequest r) {
+        r.arrivalNs = arrivalNs;
+        r.client = -1;
+        if (post(std::move(r), kReplacements)) {
+            return true;
+        }
+        ++stats_.busy;
+        log(QStringLiteral("a replacement dropped: %1 requests already wait for the engine").arg(kMaxQueuedPerSender));
+        return false;
+    };
+    for (int robot : p.turnOff) {
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::SetOnField;
+        r.robot = robot;
+        r.onField = false;
+        if (place(std::move(r))) {
+            feed_->setOnField(robot, false);
+            ++stats_.replacements;
+        }
+    }
+    for (const FirasimPlacement& placement : p.robots) {
+        if (placement.turnOn) {
+            EngineRequest r;
+            r.kind = EngineRequest::Kind::SetOnField;
+            r.robot = placement.robot;
+            r.onField = true;
+            if (!place(std::move(r))) continue;
+            feed_->setOnField(placement.robot, true);
+        }
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::PlaceRobot;
+        r.robot = placement.robot;
+        r.robotPose = placement.pose;  // at rest: v = omega = 0
+        if (place(std::move(r))) ++stats_.replacements;
+    }
+    if (p.ball) {
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::PlaceBall;
+        r.ball = *p.ball;
+        if (place(std::move(r))) ++stats_.replacements;
+    }
+    if (step) {
+        EngineRequest r;
+        r.kind = EngineRequest::Kind::Step;
+        r.duration = engine_.framePeriod();  // one camera (vision) period, in whole steps
+        if (place(std::move(r))) ++stats_.steps;
+    }
+}
+
+void FirasimServer::sendVision() {
+    for (const VisionItem& item : feed_->take()) {
+        if (vision_.writeDatagram(item.bytes, settings_.visionAddress, settings_.visionPort) < 0) {
+            ++stats_.sendErrors;
+            log(QStringLiteral("vision to %1:%2 not sent: %3")
+                    .arg(settings_.visionAddress.toString())
+                    .arg(settings_.visionPort)
+                    .arg(vision_.errorString()));
+        } else {
+            ++stats_.visionSent;
+        }
+    }
+    stats_.visionDropped = feed_->dropped();
+}
+
+void FirasimServer::log(const QString& line) { badInput_.log(line, monotonicNs()); }
+
+}  // namespace vssim

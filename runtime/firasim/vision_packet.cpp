@@ -1,0 +1,60 @@
+#include "firasim/vision_packet.h"
+
+#include <cmath>
+
+#include "vssim/game/game_state.h"
+
+namespace vssim {
+
+fira_message::Field firasimField(const Field& field) {
+    const FieldDimensions& d = field.dimensions;
+    fira_message::Field f;
+    f.set_width(d.width);
+    f.set_length(d.length);
+    f.set_goal_width(d.goal_width);
+    f.set_goal_depth(d.goal_depth);
+    f.set_center_radius(d.centre_radius);
+    f.set_penalty_width(d.goal_area_width);
+    f.set_penalty_depth(d.goal_area_depth);
+    // vssim keeps the mark's distance from the goal line; FIRASim's clients
+    // read it from the centre (0.375 m on the 3 vs 3 field either way).
+    f.set_penalty_point(d.penalty_mark > 0.0 ? 0.5 * d.length - d.penalty_mark : 0.0);
+    return f;
+}
+
+fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Field& field, const TeamRoster& roster,
+                                                         const WorldState& world, std::int64_t step,
+                                                         const std::vector<char>& onField,
+                                                         const std::array<int, 2>& goals) {
+    fira_message::sim_to_ref::Environment env;
+    env.set_step(static_cast<std::uint32_t>(step));
+    fira_message::Frame* frame = env.mutable_frame();
+    fira_message::Ball* ball = frame->mutable_ball();
+    ball->set_x(world.ball.x);
+    ball->set_y(world.ball.y);
+    ball->set_z(0.0);
+    ball->set_vx(world.ball.vx);
+    ball->set_vy(world.ball.vy);
+    ball->set_vz(0.0);
+    for (Team team : {Team::Yellow, Team::Blue}) {
+        for (int index : roster.members(team)) {
+            if (index >= static_cast<int>(world.robots.size())) continue;
+            if (index < static_cast<int>(onField.size()) && !onField[index]) continue;
+            const RobotState& s = world.robots[index];
+            fira_message::Robot* r = team == Team::Yellow ? frame->add_robots_yellow() : frame->add_robots_blue();
+            r->set_robot_id(roster.idOf(index));
+            r->set_x(s.x);
+            r->set_y(s.y);
+            r->set_orientation(s.theta);
+            r->set_vx(s.v * std::cos(s.theta));
+            r->set_vy(s.v * std::sin(s.theta));
+            r->set_vorientation(s.omega);
+        }
+    }
+    *env.mutable_field() = field;
+    env.set_goals_yellow(static_cast<std::uint32_t>(goals[teamIndex(Team::Yellow)]));
+    env.set_goals_blue(static_cast<std::uint32_t>(goals[teamIndex(Team::Blue)]));
+    return env;
+}
+
+}  // namespace vssim

@@ -1,0 +1,36 @@
+// FIRASim's vision message (fira_message.sim_to_ref.Environment) for one
+// camera instant of vssim: the ball, the robots on the field by team and id,
+// the field's dimensions and the score (shared vsss-game.md, "FIRASim's
+// network interface"). vssim's field frame is FIRASim's: origin at the
+// centre, x towards the goal at x > 0 (the one yellow attacks), metres,
+// radians counter-clockwise; speeds in m/s and rad/s.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "fira_packet.pb.h"
+#include "firasim/team_roster.h"
+#include "vssim/field.h"
+#include "vssim/world_model.h"
+
+namespace vssim {
+
+// The field's dimensions as FIRASim names them: width along y, length along
+// x (goal line to goal line), the goal's mouth and depth, the centre circle's
+// radius, the goal area as penalty_width (along y) x penalty_depth (along x),
+// and penalty_point as the penalty mark's distance from the centre along x.
+fira_message::Field firasimField(const Field& field);
+
+// The Environment for the world `world` at simulation step `step` (wrapped
+// to 32 bits as the wire's uint32). Robots whose onField entry is 0 are left
+// out; every robot's vx, vy is its forward speed v along its heading and
+// vorientation its yaw rate. goals: by team, [Yellow] and [Blue]. The ball
+// is at z = 0 (it rolls).
+fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Field& field, const TeamRoster& roster,
+                                                         const WorldState& world, std::int64_t step,
+                                                         const std::vector<char>& onField,
+                                                         const std::array<int, 2>& goals);
+
+}  // namespace vssim
