@@ -239,12 +239,9 @@ void TestVssRef::commandForPhasesAndHalves() {
     QCOMPARE(vssRefCommand(g, 3.0).teamcolor(), VSSRef::NONE);
     g.phase = GamePhase::Finished;
     QCOMPARE(vssRefCommand(g, 3.0).foul(), VSSRef::HALT);
-    const std::pair<int, VSSRef::Half> halves[] = {{1, VSSRef::FIRST_HALF},
-                                                   {2, VSSRef::SECOND_HALF},
-                                                   {3, VSSRef::OVERTIME_FIRST_HALF},
-                                                   {4, VSSRef::OVERTIME_SECOND_HALF},
-                                                   {5, VSSRef::NO_HALF},
-                                                   {0, VSSRef::NO_HALF}};
+    const std::pair<int, VSSRef::Half> halves[] = {
+        {1, VSSRef::FIRST_HALF},           {2, VSSRef::SECOND_HALF}, {3, VSSRef::OVERTIME_FIRST_HALF},
+        {4, VSSRef::OVERTIME_SECOND_HALF}, {5, VSSRef::NO_HALF},     {0, VSSRef::NO_HALF}};
     for (const auto& [half, want] : halves) {
         g.half = half;
         QCOMPARE(vssRefCommand(g, 0.0).gamehalf(), want);
@@ -289,8 +286,8 @@ void TestVssRef::placementTranslated() {
     const Scene scene = kickoffRemote();
     const TeamRoster roster(scene);
     QString error;
-    auto p = vssRefPlacement(placementOf(VSSRef::BLUE, {{{2, 0.3, -0.2, 90.0}}, {{0, 0.6, 0.0, 180.0}}}), scene,
-                             roster, &error);
+    auto p = vssRefPlacement(placementOf(VSSRef::BLUE, {{{2, 0.3, -0.2, 90.0}}, {{0, 0.6, 0.0, 180.0}}}), scene, roster,
+                             &error);
     QVERIFY2(p, qPrintable(error));
     QCOMPARE(p->team, Team::Blue);
     QCOMPARE(p->poses.size(), std::size_t(2));
@@ -532,8 +529,8 @@ void TestVssRef::bridgeOnMulticastLoopback() {
     team.setMulticastInterface(loopback);
     team.writeDatagram(bytesOf(placementOf(VSSRef::YELLOW, {{{1, -0.45, 0.42, 0.0}}})), group, placementPort);
     QTRY_COMPARE_WITH_TIMEOUT(bridge->stats().placementDatagrams, std::int64_t(1), 3000);
-    qInfo("multicast on loopback tested: 224.5.23.2:%u commands, 224.5.23.2:%u placements (posted %lld)",
-          commandPort, placementPort, static_cast<long long>(bridge->stats().placementsPosted));
+    qInfo("multicast on loopback tested: 224.5.23.2:%u commands, 224.5.23.2:%u placements (posted %lld)", commandPort,
+          placementPort, static_cast<long long>(bridge->stats().placementsPosted));
     engine.requestStop();
     engine.wait();
 }

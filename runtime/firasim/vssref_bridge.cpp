@@ -21,8 +21,7 @@ QString describe(const QHostAddress& address, quint16 port) {
 
 }  // namespace
 
-VssRefBridge::VssRefBridge(const Scene& scene, EngineThread& engine, const VssRefSettings& settings,
-                           QObject* parent)
+VssRefBridge::VssRefBridge(const Scene& scene, EngineThread& engine, const VssRefSettings& settings, QObject* parent)
     : QObject(parent),
       scene_(scene),
       engine_(engine),
@@ -105,8 +104,8 @@ bool VssRefBridge::open(QString* error) {
         from = QHostAddress(QHostAddress::LocalHost);
     }
     if (!commandSocket_.bind(from, 0)) {
-        *error = QStringLiteral("VSSRef commands: cannot bind %1: %2")
-                     .arg(from.toString(), commandSocket_.errorString());
+        *error =
+            QStringLiteral("VSSRef commands: cannot bind %1: %2").arg(from.toString(), commandSocket_.errorString());
         return false;
     }
     if (settings_.commandAddress.isMulticast()) {
@@ -248,8 +247,8 @@ void VssRefBridge::handlePlacement(const QByteArray& bytes, const QHostAddress& 
     proposed.ball = latest.world.ball;
     if (proposed.robots.size() == scene_.robots.size()) {
         for (const auto& [robot, pose] : placement->poses) proposed.robots[static_cast<std::size_t>(robot)] = pose;
-        const std::string illegal = checkTeamPlacement(model_, teams_, names_, scene_.game.rules, latest.game.last,
-                                                       placement->team, proposed);
+        const std::string illegal =
+            checkTeamPlacement(model_, teams_, names_, scene_.game.rules, latest.game.last, placement->team, proposed);
         if (!illegal.empty()) {
             ++stats_.illegal;
             log(QStringLiteral("%1 (%2) refused: %3 (for the %4); the referee's placement stays")

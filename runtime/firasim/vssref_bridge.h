@@ -40,7 +40,7 @@
 namespace vssim {
 
 struct VssRefSettings {
-    QHostAddress commandAddress{QStringLiteral("224.5.23.2")};    // multicast group or unicast host
+    QHostAddress commandAddress{QStringLiteral("224.5.23.2")};  // multicast group or unicast host
     quint16 commandPort = 10003;
     QHostAddress placementAddress{QStringLiteral("224.5.23.2")};  // group to join, or unicast address to bind
     quint16 placementPort = 10004;  // 0 with a unicast address: any free port (placementPort())
@@ -66,8 +66,7 @@ class VssRefBridge : public QObject {
     Q_OBJECT
 public:
     // Registers an observer with `engine`: construct before engine.start().
-    VssRefBridge(const Scene& scene, EngineThread& engine, const VssRefSettings& settings,
-                 QObject* parent = nullptr);
+    VssRefBridge(const Scene& scene, EngineThread& engine, const VssRefSettings& settings, QObject* parent = nullptr);
     ~VssRefBridge() override;
 
     // Opens the sockets (sending and receiving); false with `*error` when the
@@ -102,8 +101,8 @@ private:
         VssRefBridge* owner = nullptr;  // null once the bridge is gone
         Latest latest;
         bool haveKey = false;
-        VssRefCommandKey key;          // of the last change queued
-        std::vector<Change> changes;   // not yet sent, oldest first
+        VssRefCommandKey key;         // of the last change queued
+        std::vector<Change> changes;  // not yet sent, oldest first
     };
     static void observe(Shared& shared, const InstantRecord& record);
     void sendChanges();

@@ -114,7 +114,8 @@ std::optional<VssRefTeamPlacement> vssRefPlacement(const VSSRef::team_to_ref::VS
                             .arg(r.robot_id())
                             .arg(static_cast<long long>(members) - 1));
         for (const auto& [placed, pose] : out.poses)
-            if (placed == index) return fail(QStringLiteral("%1 robot_id %2 is placed twice").arg(team).arg(r.robot_id()));
+            if (placed == index)
+                return fail(QStringLiteral("%1 robot_id %2 is placed twice").arg(team).arg(r.robot_id()));
         if (!std::isfinite(r.x()) || !std::isfinite(r.y()) || !std::isfinite(r.orientation()))
             return fail(QStringLiteral("%1 robot_id %2: x %3 m, y %4 m, orientation %5 deg: not finite")
                             .arg(team)
