@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "firasim/firasim_server.h"
+#include "firasim/vssref_bridge.h"
 #include "io/scene_io.h"
 #include "net/control_server.h"
 #include "net/network_address.h"
@@ -84,11 +85,22 @@ QString serveHelpText() {
                "                       (default %8)\n"
                "  --vision-port N      vision UDP port (default %9)\n"
                "  --vision-rate HZ     vision (and camera) messages per second of simulated time, %10 to %11\n"
-               "                       (default 60; the period is rounded to whole steps)\n"
+               "                       (default 60: on average, each message at the first step, or game\n"
+               "                       tick, at or after its multiple of the period)\n"
                "  --multicast-ttl N    multicast hops, 0 to 255 (default 0: this machine only)\n"
                "  --firasim-sync       lockstep driven by FIRASim: each packet with commands advances one\n"
                "                       vision period and its vision goes out at the end (implies --firasim;\n"
                "                       excludes --speed and --lockstep)\n"
+               "\n"
+               "VSSReferee's protocol for the built-in referee (docs/firasim.md):\n"
+               "  --vssref             send the referee's commands as VSSRef_Command and take the teams'\n"
+               "                       VSSRef_Placement (needs the built-in referee)\n"
+               "  --vssref-address ADDR\n"
+               "                       multicast group (or unicast address) of both (default 224.5.23.2)\n"
+               "  --vssref-command-port N\n"
+               "                       where the commands go (default 10003)\n"
+               "  --vssref-placement-port N\n"
+               "                       where placements are read (default 10004)\n"
                "\n"
                "Clients are served fairly, and what the server holds for them is bounded: at most %2\n"
                "connections (when full, the oldest one without HELLO makes room for a new one), %3\n"
@@ -135,10 +147,15 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption visionRate("vision-rate", "Hz", "HZ");
     const QCommandLineOption multicastTtl("multicast-ttl", "hops", "N");
     const QCommandLineOption firasimSync("firasim-sync", "sync");
+    const QCommandLineOption vssref("vssref", "vssref");
+    const QCommandLineOption vssrefAddress("vssref-address", "address", "ADDR");
+    const QCommandLineOption vssrefCommandPort("vssref-command-port", "port", "N");
+    const QCommandLineOption vssrefPlacementPort("vssref-placement-port", "port", "N");
     parser.addOptions({help,          port,         listen,     speed,         lockstep,
                        paused,        helloTimeout, quitAfter,  sceneCommands, readOnlyObservers,
                        yellow,        blue,         referee,    firasim,       firasimPort,
-                       visionAddress, visionPort,   visionRate, multicastTtl,  firasimSync});
+                       visionAddress, visionPort,   visionRate, multicastTtl,  firasimSync,
+                       vssref,        vssrefAddress, vssrefCommandPort, vssrefPlacementPort});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -235,6 +252,28 @@ int serveCommand(const QStringList& arguments) {
                 QStringLiteral("--multicast-ttl: expected 0 to 255, got \"%1\"").arg(parser.value(multicastTtl)));
         fira.multicastTtl = value;
     }
+    // VSSReferee's protocol.
+    VssRefSettings ref;
+    for (const QCommandLineOption* option : {&vssrefAddress, &vssrefCommandPort, &vssrefPlacementPort})
+        if (parser.isSet(*option) && !parser.isSet(vssref))
+            return usage(QStringLiteral("--%1 needs --vssref").arg(option->names().first()));
+    if (parser.isSet(vssrefAddress)) {
+        QHostAddress address;
+        if (!address.setAddress(parser.value(vssrefAddress)))
+            return usage(QStringLiteral("--vssref-address: \"%1\" is not an IPv4 or IPv6 address")
+                             .arg(parser.value(vssrefAddress)));
+        ref.commandAddress = ref.placementAddress = address;
+    }
+    for (const auto& [option, out] : {std::pair{&vssrefCommandPort, &ref.commandPort},
+                                      std::pair{&vssrefPlacementPort, &ref.placementPort}}) {
+        if (!parser.isSet(*option)) continue;
+        const std::optional<quint16> value = parsePort(parser.value(*option));
+        if (!value || *value == 0)
+            return usage(QStringLiteral("--%1: expected 1 to 65535, got \"%2\"")
+                             .arg(option->names().first(), parser.value(*option)));
+        *out = *value;
+    }
+    if (parser.isSet(multicastTtl)) ref.multicastTtl = fira.multicastTtl;
     double rate = 60.0;  // FIRASim vision, Hz asked for
     if (firasimOn) {
         if (parser.isSet(visionRate)) {
@@ -309,6 +348,19 @@ int serveCommand(const QStringList& arguments) {
         err() << "vssim serve: " << error << "\n";
         return 1;
     }
+    if (parser.isSet(vssref) && !scene->game.rules.referee)
+        return usage(QStringLiteral("--vssref speaks for the built-in referee, which is off (%1)")
+                         .arg(parser.isSet(referee) ? QStringLiteral("--referee %1").arg(parser.value(referee))
+                                                    : QStringLiteral("the scene's game.referee; --referee on")));
+    std::unique_ptr<VssRefBridge> vssrefBridge;
+    if (parser.isSet(vssref)) {  // before engine.start(): it observes the engine
+        vssrefBridge = std::make_unique<VssRefBridge>(*scene, engine, ref);
+        QObject::connect(vssrefBridge.get(), &VssRefBridge::logLine, log);
+        if (!vssrefBridge->open(&error)) {
+            err() << "vssim serve: --vssref: " << error << "\n";
+            return 1;
+        }
+    }
     std::unique_ptr<FirasimServer> firasimServer;
     if (firasimOn) {
         firasimServer = std::make_unique<FirasimServer>(*scene, engine, fira);
@@ -330,6 +382,9 @@ int serveCommand(const QStringList& arguments) {
     if (firasimServer)
         out << "firasim: commands on " << firasimServer->address().toString() << ":" << firasimServer->port()
             << ", vision to " << fira.visionAddress.toString() << ":" << fira.visionPort << "\n";
+    if (vssrefBridge)
+        out << "vssref: commands to " << ref.commandAddress.toString() << ":" << ref.commandPort
+            << ", placements on " << ref.placementAddress.toString() << ":" << vssrefBridge->placementPort() << "\n";
     out.flush();
     const GameSettings& game = scene->game;
     log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7; referee %8, yellow %9, blue %10")
@@ -348,8 +403,8 @@ int serveCommand(const QStringList& arguments) {
             .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue)));
 
     if (firasimServer)
-        log(QStringLiteral("firasim: %1 vision every %2 s of simulated time (%3 Hz; %6 Hz asked for, the period in "
-                           "whole steps%7)%4; goals in the vision: %5")
+        log(QStringLiteral("firasim: %1 vision every %2 s of simulated time on average (%3 Hz; %6 Hz asked for, "
+                           "each message on the first step%7 at or after its time)%4; goals in the vision: %5")
                 .arg(fira.visionAddress.isMulticast()
                          ? QStringLiteral("multicast (TTL %1, loopback on)").arg(fira.multicastTtl)
                          : QStringLiteral("unicast"))
@@ -363,7 +418,7 @@ int serveCommand(const QStringList& arguments) {
                 .arg(rate)
                 .arg(scene->game.rules.referee || scene->game.yellow == TeamControl::Builtin ||
                              scene->game.blue == TeamControl::Builtin
-                         ? QStringLiteral(" and game ticks")
+                         ? QStringLiteral(" and game tick")
                          : QString()));
 
     std::signal(SIGINT, onStopSignal);
@@ -377,6 +432,7 @@ int serveCommand(const QStringList& arguments) {
     QCoreApplication::exec();
     log("stopping");
     firasimServer.reset();
+    vssrefBridge.reset();
     engine.requestStop();
     engine.wait();
     std::signal(SIGINT, SIG_DFL);

@@ -1,4 +1,4 @@
-// vssim's referee speaking VSSReferee's protocol (docs/vssref.md): the
+// vssim's referee speaking VSSReferee's protocol (docs/firasim.md, "VSSReferee's protocol"): the
 // translation of GameState to VSSRef_Command and of VSSRef_Placement to a
 // team's placement, both ways, and the bridge in process with an engine in
 // lockstep on the built-in kick-off (both teams remote): the kick-off, GAME_ON

@@ -275,6 +275,8 @@ void FieldView::paintBodies(QPainter& p) const {
         const RobotState& r = s.robots[i];
         const double side = scene.robots[i].params.side;
         p.save();
+        // Off the field (FIRASim's turnon false): a ghost where it was left.
+        if (i < s.offField.size() && s.offField[i]) p.setOpacity(0.25);
         p.translate(r.x, r.y);
         p.rotate(r.theta * 180.0 / 3.141592653589793);
         // Body, team patch (rear), identity patch (front): as the camera draws them.

@@ -98,7 +98,11 @@ void CameraRenderer::render(const WorldState& state, cv::Mat& frame, std::vector
     if (frame.datastart == background_.datastart) frame = cv::Mat();  // never draw into the background itself
     background_.copyTo(frame);
     patches.clear();
-    for (std::size_t i = 0; i < robots_.size(); ++i) patches.push_back(drawRobot(robots_[i], state.robots[i], frame));
+    for (std::size_t i = 0; i < robots_.size(); ++i) {
+        // Off the field (WorldState::offField): not in the picture; an empty patch keeps the order.
+        const bool off = i < state.offField.size() && state.offField[i];
+        patches.push_back(off ? cv::Rect() : drawRobot(robots_[i], state.robots[i], frame));
+    }
     patches.push_back(drawBall(state.ball, frame));
 }
 

@@ -188,7 +188,7 @@ void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalN
     if (step) {
         EngineRequest r;
         r.kind = EngineRequest::Kind::Step;
-        r.duration = engine_.framePeriod();  // one camera (vision) period, in whole steps
+        r.duration = engine_.framePeriod();  // one vision period (the engine rounds it up to whole steps)
         if (place(std::move(r))) ++stats_.steps;
     }
 }

@@ -35,7 +35,7 @@ namespace vssim {
 
 // The largest wheel speed accepted, rad/s (about 25 m/s at the rim of a
 // 2.5 cm wheel: far beyond any VSSS motor, so it only catches garbage).
-constexpr double kMaxWheelSpeed = 1000.0;
+constexpr double kMaxWheelSpeed = kMaxWheelSpeedTarget;  // the engine's limit (speed_controller.h)
 
 // A wheel-speed target as accepted: NaN -> 0, otherwise clamped to
 // +-kMaxWheelSpeed (infinities included). `changed` tells whether it had to be.

@@ -70,6 +70,10 @@ void VisionFeed::observe(const InstantRecord& record) {
         // A scene of another size (the app loaded one before restarting the
         // server) is not ours to describe.
         if (record.world.robots.size() != onField_.size()) return;
+        // The engine's word on who is on the field (WorldState::offField):
+        // a turnon the engine has not handled yet does not show.
+        for (std::size_t i = 0; i < onField_.size(); ++i)
+            onField_[i] = i < record.world.offField.size() && record.world.offField[i] ? 0 : 1;
         latest_ = record.world;
         std::array<int, 2> goals{};
         if (record.referee) {

@@ -1,4 +1,4 @@
-// vssim's built-in referee speaking VSSReferee's protocol (docs/vssref.md):
+// vssim's built-in referee speaking VSSReferee's protocol (docs/firasim.md, "VSSReferee's protocol"):
 // team software written for the league's automatic referee plays against
 // vssim's own, without running VSSReferee.
 //

@@ -1,7 +1,7 @@
 // VSSReferee's messages against vssim's game, both ways, as pure functions
 // (no sockets): the command the league's referee would send for vssim's
 // GameState, and a team's VSSRef_Placement as vssim's own placement request
-// (docs/vssref.md; shared vsss-game.md, "VSSReferee's network interface").
+// (docs/firasim.md, "VSSReferee's protocol"; shared vsss-game.md, "VSSReferee's network interface").
 //
 // Command, for GameState::phase:
 //   Stop      the call being played: KickOff -> KICKOFF, FreeBall -> FREE_BALL,

@@ -13,6 +13,7 @@ Snapshot takeSnapshot(const EngineLoop& loop, std::shared_ptr<const Scene> scene
     s.fault = loop.fault();
     s.speed = loop.speed();
     s.robots = sim.state().robots;
+    s.offField = sim.state().offField;
     s.voltages = sim.state().voltages;
     s.outputs.reserve(s.robots.size());
     for (std::size_t i = 0; i < s.robots.size(); ++i) s.outputs.push_back(sim.robotOutputs(static_cast<int>(i)));

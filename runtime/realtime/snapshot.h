@@ -27,6 +27,7 @@ struct Snapshot {
     std::optional<SimulationFault> fault;
     double speed = 1.0;                 // real-time factor (realtime mode)
     std::vector<RobotState> robots;     // m, rad, m/s, rad/s
+    std::vector<char> offField;         // per robot: non-zero while off the field (FIRASim's turnon false)
     std::vector<Voltages> voltages;     // applied, V
     std::vector<RobotOutputs> outputs;  // wheel speeds (rad/s), currents (A), torques (N m)
     BallState ball;

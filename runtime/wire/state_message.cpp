@@ -14,6 +14,7 @@ QJsonObject stateJson(const Simulation& sim, std::int64_t frame, const GameState
         const RobotOutputs out = sim.robotOutputs(static_cast<int>(i));
         robots.append(QJsonObject{
             {"index", static_cast<int>(i)},
+            {"on_field", !(i < s.offField.size() && s.offField[i])},
             {"x", r.x},
             {"y", r.y},
             {"theta", r.theta},
