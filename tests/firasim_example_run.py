@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""The FIRASim example client end to end (examples/firasim/go_to_ball.py):
+`vssim serve --firasim` in real time at --speed 4 with one yellow robot and
+the ball, the example driving that robot with --ignore-referee, and this
+script watching the same vision. The robot must reach the ball and push it
+towards the goal it attacks (x > 0).
+
+The vision goes by unicast to 127.0.0.1 (multicast may be unavailable in a
+container; tests/test_firasim.cpp tests multicast on loopback where the
+kernel allows it). A unicast port has one reader, so this script receives
+the vision and relays every datagram, unchanged, to the example's port.
+
+    /usr/bin/python3 tests/firasim_example_run.py --vssim build/app/vssim \
+        --proto-dir build/python_proto [unittest options]
+
+(or the environment variables VSSIM_BINARY and VSSIM_PYTHON_PROTO).
+"""
+
+import json
+import math
+import os
+import select
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import firasim_python_test as common  # noqa: E402  (takes --vssim and --proto-dir from sys.argv)
+
+fira = common.fira
+EXAMPLE = os.path.join(HERE, "..", "examples", "firasim", "go_to_ball.py")
+
+# One yellow robot beside the ball, facing away from the goal it attacks:
+# it must drive round the ball, line up behind it and push it towards x > 0.
+SCENE = {
+    "version": 1,
+    "field": {"type": "vsss_3v3"},
+    "robots": [{"team": "yellow", "x": -0.45, "y": -0.2, "theta": math.pi / 2}],
+    "ball": {"x": -0.25, "y": 0.05},
+}
+SPEED = 4.0         # simulated seconds per wall second
+WALL_SECONDS = 5.0  # the example's --duration: 20 s of simulated time
+
+
+class ExampleRun(unittest.TestCase):
+    def test_go_to_ball_pushes_the_ball_towards_the_goal(self):
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        server = common.Server(SCENE, "--speed", str(SPEED), sync=False, tmpdir=tmp.name)
+        self.addCleanup(server.close)
+        first = server.next()
+        robot0, ball0 = common.find_robot(first, True, 0), first.frame.ball
+        self.assertIsNotNone(robot0)
+
+        # The example's own ports: vision (relayed by us) and the referee
+        # (silent: --ignore-referee; unicast so that no multicast is needed).
+        relay_port, referee_port = common.free_ports(2)
+        env = {k: v for k, v in os.environ.items()}
+        example = subprocess.Popen(
+            ["/usr/bin/python3", EXAMPLE, "--team", "yellow", "--robot", "0", "--ignore-referee",
+             "--duration", str(WALL_SECONDS),
+             "--vision-address", "127.0.0.1", "--vision-port", str(relay_port),
+             "--command-address", "127.0.0.1", "--command-port", str(server.port),
+             "--referee-address", "127.0.0.1", "--referee-port", str(referee_port),
+             "--proto-dir", common.PROTO_DIR],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)
+        self.addCleanup(lambda: example.poll() is None and example.kill())
+        relay = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.addCleanup(relay.close)
+
+        closest = math.inf   # robot centre to ball centre, m
+        touched_at = None
+        ball_x_max = ball0.x
+        last = first
+        packets = 0
+        deadline = time.monotonic() + WALL_SECONDS + 10.0
+        while example.poll() is None and time.monotonic() < deadline:
+            ready, _, _ = select.select([server.vision], [], [], 0.1)
+            if not ready:
+                continue
+            data = server.vision.recv(65536)
+            relay.sendto(data, ("127.0.0.1", relay_port))
+            e = fira.Environment()
+            e.ParseFromString(data)
+            packets += 1
+            last = e
+            r = common.find_robot(e, True, 0)
+            d = math.hypot(r.x - e.frame.ball.x, r.y - e.frame.ball.y)
+            if d < closest:
+                closest = d
+            if touched_at is None and d < 0.08:
+                touched_at = e.step
+            ball_x_max = max(ball_x_max, e.frame.ball.x)
+        output = example.communicate(timeout=10)[0].decode(errors="replace")
+        self.assertEqual(example.returncode, 0, output)
+        print("example: %s" % output.strip().splitlines()[-1], flush=True)
+        print("vision packets %d; the robot came within %.3f m of the ball (at step %s); ball x %.3f -> %.3f "
+              "(at most %.3f); goals yellow %d"
+              % (packets, closest, touched_at, ball0.x, last.frame.ball.x, ball_x_max, last.goals_yellow),
+              flush=True)
+        sim_seconds = last.step * 0.001
+        self.assertGreater(sim_seconds, 0.5 * SPEED * WALL_SECONDS, "the server ran at --speed 4")
+        self.assertGreater(packets, 100)
+        # Reached the ball: centres closer than a robot's half diagonal plus
+        # the ball's radius (0.074 m: touching at a corner; 0.059 m face on).
+        self.assertIsNotNone(touched_at, "the robot never reached the ball (closest %.3f m)" % closest)
+        # Pushed towards x > 0: the ball went at least 10 cm that way (or into the goal).
+        self.assertTrue(ball_x_max > ball0.x + 0.1 or last.goals_yellow > 0,
+                        "ball x from %.3f to at most %.3f" % (ball0.x, ball_x_max))
+        self.assertEqual(last.goals_blue, 0, "no own goal")
+
+
+if __name__ == "__main__":
+    unittest.main()
