@@ -679,6 +679,8 @@ class BadInput(FirasimTest):
                 replace_robot(p, True, 0, 0.74, 0.6, 0.0)              # into a corner
                 replace_robot(p, True, 0, float("inf"), 0.0, 0.0)      # not finite
                 replace_ball(p, 0.0, 0.9, 0.0, 0.0)                    # outside the field
+                bx, by = (track[-1][1], track[-1][2]) if track else (0.55, -0.45)
+                replace_robot(p, True, 0, bx + 0.03, by, 0.0)          # onto blue 0 (as last seen)
                 if len(track) % 3 == 0:
                     replace_ball(p, 0.0, 0.0, 50.0, 0.0)               # faster than 20 m/s
             env = s.step(p)
