@@ -561,7 +561,7 @@ class Replacement(FirasimTest):
     def test_turnon_false_takes_a_robot_off_and_true_brings_it_back(self):
         s, first = self.server(TWO_ROBOTS)
         # Blue 0 driving; then off the field.
-        s.step(command(fira.Packet(), False, 0, 15.0, 15.0))
+        was = find_robot(s.step(command(fira.Packet(), False, 0, 15.0, 15.0)), False, 0)
         off = fira.Packet()
         replace_robot(off, False, 0, 0.0, 0.0, 0.0, turnon=False)
         env = s.step(off)
@@ -573,6 +573,10 @@ class Replacement(FirasimTest):
             env = s.step(command(fira.Packet(), False, 0, 15.0, 15.0))
             self.assertEqual(len(env.frame.robots_blue), 0)
         # A robot off the field does not block a replacement where it was.
+        env = s.step(replace_robot(fira.Packet(), True, 0, was.x, was.y, 0.0))
+        y0 = find_robot(env, True, 0)
+        self.assertAlmostEqual(y0.x, was.x, delta=1e-9)
+        self.assertAlmostEqual(y0.y, was.y, delta=1e-9)
         # Back on, at the given pose, at rest.
         on = replace_robot(fira.Packet(), False, 0, 0.3, -0.45, 90.0, turnon=True)
         env = s.step(command(on, False, 0, 0.0, 0.0))
