@@ -16,7 +16,6 @@ the vision and relays every datagram, unchanged, to the example's port.
 (or the environment variables VSSIM_BINARY and VSSIM_PYTHON_PROTO).
 """
 
-import json
 import math
 import os
 import select
