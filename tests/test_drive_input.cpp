@@ -117,6 +117,20 @@ private slots:
         QCOMPARE(e.right, -kMax);
     }
 
+    void wheelSpeedsAreFractionsOfTheFreeSpeed() {
+        // Full stick ahead: both wheels at the free speed; half back, half of it backwards.
+        const WheelSpeeds full = voltagesToWheelSpeeds({7.4, 7.4}, 7.4, 70.0);
+        QCOMPARE(full.right, 70.0);
+        QCOMPARE(full.left, 70.0);
+        const WheelSpeeds half = voltagesToWheelSpeeds({-3.7, 1.85}, 7.4, 70.0);
+        QCOMPARE(half.right, -35.0);
+        QCOMPARE(half.left, 17.5);
+        // Beyond the battery: clamped to the free speed; NaN and a bad maximum: 0.
+        QCOMPARE(voltagesToWheelSpeeds({100.0, 0.0}, 7.4, 70.0).right, 70.0);
+        QCOMPARE(voltagesToWheelSpeeds({std::nan(""), 1.0}, 7.4, 70.0).right, 0.0);
+        QCOMPARE(voltagesToWheelSpeeds({1.0, 1.0}, 0.0, 70.0).left, 0.0);
+    }
+
     void deadzone() {
         const double dz = 0.15;
         QCOMPARE(applyDeadzone(0.0, dz), 0.0);

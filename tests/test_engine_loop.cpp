@@ -406,6 +406,70 @@ private slots:
         QCOMPARE(loop.simulation().state().voltages[0].right, 0.0);
     }
 
+    void wheelSpeedsFromClientsAndByHandGoThroughTheSpeedLoop() {
+        // A client's wheel speeds turn robot 0's loop on; a person driving it
+        // by wheel speeds keeps it on with their targets; letting go gives it
+        // back the client's last command (wheel speeds again); VOLTAGES turn
+        // the loop off. The loop's voltages follow from its own law.
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        RecordingSink sink;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(0);
+        EngineRequest tcp;
+        tcp.kind = EngineRequest::Kind::WheelSpeeds;
+        tcp.client = 7;
+        tcp.wheelSpeeds = {{0, WheelSpeeds{10.0, 10.0}}};
+        loop.handle(tcp, 0);
+        QCOMPARE(loop.control()[0].controller, RobotController::Tcp);
+        QVERIFY(loop.simulation().state().speedLoops[0].active);
+        EngineRequest step = control(EngineRequest::Kind::Step);
+        step.duration = 0.0001;  // one step: the loop's first sample, from rest
+        loop.handle(step, 0);
+        const SpeedControllerParams& pi = loop.scene().robots[0].params.speed_controller;
+        QCOMPARE(loop.simulation().state().voltages[0].right, pi.kp * 10.0 + pi.ki * 10.0 / pi.rate);
+        EngineRequest manual;
+        manual.kind = EngineRequest::Kind::ManualVoltages;
+        manual.wheelSpeeds = {{0, WheelSpeeds{-20.0, 20.0}}};
+        loop.handle(manual, 0);
+        QCOMPARE(loop.control()[0].controller, RobotController::Manual);
+        QCOMPARE(loop.simulation().state().speedLoops[0].target.right, -20.0);
+        QVERIFY(loop.simulation().state().speedLoops[0].active);
+        EngineRequest release = control(EngineRequest::Kind::ReleaseManual);
+        release.robot = 0;
+        loop.handle(release, 0);
+        QCOMPARE(loop.simulation().state().speedLoops[0].target.right, 10.0);
+        QVERIFY(loop.simulation().state().speedLoops[0].active);
+        auto volts = voltages(0, 0, 2.0, 2.0);
+        volts.client = 7;
+        loop.handle(volts, 0);
+        QVERIFY(!loop.simulation().state().speedLoops[0].active);
+        QCOMPARE(loop.simulation().state().voltages[0].right, 2.0);
+    }
+
+    void offFieldRequestTakesARobotOutOfThePhysics() {
+        RecordingSink sink;
+        EngineLoopSettings settings;
+        settings.mode = RunMode::Lockstep;
+        EngineLoop loop(twoRobots(), settings, sink);
+        loop.start(0);
+        EngineRequest off = control(EngineRequest::Kind::SetOnField);
+        off.robot = 1;
+        off.onField = false;
+        loop.handle(off, 0);
+        QVERIFY(!loop.simulation().onField(1));
+        auto drive = voltages(0, 1, 5.0, 5.0);
+        drive.client = 3;
+        loop.handle(drive, 0);
+        QCOMPARE(loop.simulation().state().voltages[1].right, 0.0);  // deaf while off
+        EngineRequest on = off;
+        on.onField = true;
+        loop.handle(on, 0);
+        QVERIFY(loop.simulation().onField(1));
+        loop.handle(drive, 0);
+        QCOMPARE(loop.simulation().state().voltages[1].right, 5.0);
+    }
+
     void requestsForAnotherScenesRobotsAreIgnored() {
         // A request made for the scene being replaced (the server stopping a
         // departed client's robots 3 to 5, the app driving robot 5) can reach

@@ -54,6 +54,13 @@ void AppSession::driveManually(int robot, const Voltages& volts) {
     post(std::move(r));
 }
 
+void AppSession::driveManually(int robot, const WheelSpeeds& speeds) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::ManualVoltages;
+    r.wheelSpeeds = {{robot, speeds}};
+    post(std::move(r));
+}
+
 void AppSession::releaseManual(int robot) {
     EngineRequest r;
     r.kind = EngineRequest::Kind::ReleaseManual;

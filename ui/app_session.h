@@ -32,6 +32,8 @@ public:
     void placeRobot(int robot, const RobotState& pose);
     void placeBall(const BallState& ball);
     void driveManually(int robot, const Voltages& volts);
+    // The same as wheel-speed targets through the robot's speed loop (rad/s).
+    void driveManually(int robot, const WheelSpeeds& speeds);
     void releaseManual(int robot);
     void setSpeed(double speed);  // x real time; 0: as fast as possible
     // New integrator, step, collision model or restitution: the bodies stay

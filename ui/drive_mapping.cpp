@@ -55,4 +55,13 @@ double applyDeadzone(double value, double deadzone) {
     return std::copysign(std::min(scaled, 1.0), value);
 }
 
+WheelSpeeds voltagesToWheelSpeeds(const Voltages& volts, double maxVoltage, double freeWheelSpeed) {
+    if (!(maxVoltage > 0.0) || !(freeWheelSpeed >= 0.0)) return {};
+    auto side = [&](double e) {
+        const double fraction = std::isnan(e) ? 0.0 : std::clamp(e / maxVoltage, -1.0, 1.0);
+        return fraction * freeWheelSpeed;
+    };
+    return {side(volts.right), side(volts.left)};
+}
+
 }  // namespace vssim

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "vssim/robot_state.h"
+#include "vssim/speed_controller.h"
 
 namespace vssim {
 
@@ -28,6 +29,13 @@ enum class DriveMapping {
 // Tank:
 //     left = y * maxVoltage,  right = x * maxVoltage.
 Voltages stickToVoltages(double x, double y, DriveMapping mapping, double maxVoltage);
+
+// Driving through the robot's speed loop instead (the Drive dock's "wheel
+// speeds" switch): the same stick, read as a fraction of the robot's free
+// wheel speed. Each side's voltage / maxVoltage (clamped to [-1, 1]; NaN,
+// or maxVoltage <= 0, gives 0) times freeWheelSpeed (rad/s, >= 0: what the
+// wheels reach at maxVoltage on both motors).
+WheelSpeeds voltagesToWheelSpeeds(const Voltages& volts, double maxVoltage, double freeWheelSpeed);
 
 // Stick dead zone. value in [-1, 1] (clamped), deadzone in [0, 1)
 // (dimensionless). |value| <= deadzone gives 0; beyond, the rest of the

@@ -39,6 +39,7 @@
 #include "scene_value_ranges.h"
 #include "scoreboard.h"
 #include "status_text.h"
+#include "vssim/robot_model.h"
 #include "wire/protocol.h"
 
 namespace vssim {
@@ -239,6 +240,12 @@ void MainWindow::buildDocks() {
     mapping_->addItems(
         {tr("Arcade (one stick: forward and turn)"), tr("Tank (left stick: left wheel, right stick: right wheel)")});
     form->addRow(tr("Stick mapping"), mapping_);
+    throughSpeedLoop_ = new QCheckBox(tr("Wheel speeds (through the speed loop)"), drive);
+    throughSpeedLoop_->setObjectName("drive.wheelSpeeds");
+    throughSpeedLoop_->setToolTip(
+        tr("Send wheel-speed targets (a full stick: the robot's free wheel speed) to the robot's on-board PI "
+           "loop instead of voltages, as FIRASim clients do"));
+    form->addRow(QString(), throughSpeedLoop_);
     gamepadStatus_ = new QLabel(drive);
     form->addRow(tr("Gamepad"), gamepadStatus_);
     layout->addLayout(form);
@@ -586,7 +593,13 @@ void MainWindow::onStick(double x, double y, bool fromGamepad) {
 }
 
 void MainWindow::sendManual(const Voltages& volts) {
-    if (manualRobot_ >= 0) session_->driveManually(manualRobot_, volts);
+    if (manualRobot_ < 0) return;
+    if (!throughSpeedLoop_->isChecked()) return session_->driveManually(manualRobot_, volts);
+    // The stick as a fraction of the free wheel speed: what both wheels reach at full voltage.
+    const RobotParams& params = session_->scene().robots[manualRobot_].params;
+    const Eigen::Vector2d free = steadyStateVelocity(makeRobotModel(params), {params.max_voltage, params.max_voltage});
+    const double freeWheelSpeed = std::abs(free(0)) / params.right.wheel_radius;  // rad/s
+    session_->driveManually(manualRobot_, voltagesToWheelSpeeds(volts, params.max_voltage, freeWheelSpeed));
 }
 
 void MainWindow::releaseManual() {

@@ -89,6 +89,7 @@ private:
     QLabel* driveStatus_ = nullptr;
     QLabel* gamepadStatus_ = nullptr;
     QComboBox* mapping_ = nullptr;
+    QCheckBox* throughSpeedLoop_ = nullptr;  // drive by wheel speeds, through the robot's speed loop
     QComboBox* speed_ = nullptr;
     QComboBox* integrator_ = nullptr;
     QDoubleSpinBox* dt_ = nullptr;

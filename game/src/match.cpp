@@ -97,8 +97,10 @@ void Match::applyVoltages() {
     }
     for (std::size_t i = 0; i < n; ++i) {
         const int robot = static_cast<int>(i);
-        if (override_[i])
-            sim_.setVoltages(robot, playing() ? *override_[i] : Voltages{});
+        if (override_[i] && playing())
+            sim_.drive(robot, *override_[i]);
+        else if (override_[i])
+            sim_.setVoltages(robot, {});
         else if (playing() && control(teams_[i]) == TeamControl::Remote)
             sim_.drive(robot, remote_[i]);  // a speed loop already on keeps its state
         else
@@ -107,12 +109,16 @@ void Match::applyVoltages() {
 }
 
 void Match::overrideVoltages(int robot, const std::optional<Voltages>& e) {
+    overrideDrive(robot, e ? std::optional(DriveCommand::ofVoltages(*e)) : std::nullopt);
+}
+
+void Match::overrideDrive(int robot, const std::optional<DriveCommand>& e) {
     if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
     if (!e && !override_[robot]) return;  // not overridden: nothing changes
     override_[robot] = e;
     DriveCommand now;  // 0 V: stopped, or a built-in or idle team's until its next tick
     if (e)
-        now = DriveCommand::ofVoltages(!ticking_ || playing() ? *e : Voltages{});
+        now = !ticking_ || playing() ? *e : DriveCommand{};
     else if (!ticking_ || (playing() && control(teams_[robot]) == TeamControl::Remote))
         now = remote_[robot];
     sim_.drive(robot, now);

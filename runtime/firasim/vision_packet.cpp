@@ -45,7 +45,8 @@ fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Fie
             r->set_robot_id(roster.idOf(index));
             r->set_x(s.x);
             r->set_y(s.y);
-            r->set_orientation(s.theta);
+            // Wrapped to [-pi, pi], as FIRASim reports it (the engine's theta accumulates turns).
+            r->set_orientation(std::remainder(s.theta, 2.0 * 3.14159265358979323846));
             r->set_vx(s.v * std::cos(s.theta));
             r->set_vy(s.v * std::sin(s.theta));
             r->set_vorientation(s.omega);

@@ -25,9 +25,9 @@ fira_message::Field firasimField(const Field& field);
 
 // The Environment for the world `world` at simulation step `step` (wrapped
 // to 32 bits as the wire's uint32). Robots whose onField entry is 0 are left
-// out; every robot's vx, vy is its forward speed v along its heading and
-// vorientation its yaw rate. goals: by team, [Yellow] and [Blue]. The ball
-// is at z = 0 (it rolls).
+// out; each robot's orientation is wrapped to [-pi, pi], its vx, vy is its
+// forward speed v along its heading and vorientation its yaw rate. goals: by
+// team, [Yellow] and [Blue]. The ball is at z = 0 (it rolls).
 fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Field& field, const TeamRoster& roster,
                                                          const WorldState& world, std::int64_t step,
                                                          const std::vector<char>& onField,

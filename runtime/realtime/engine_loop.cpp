@@ -74,11 +74,11 @@ void EngineLoop::start(std::int64_t nowNs) {
 }
 
 void EngineLoop::applyManual() {
-    // The Match holds a person's voltages against its teams' (Match::overrideVoltages).
+    // The Match holds a person's command against its teams' (Match::overrideDrive).
     for (std::size_t i = 0; i < control_.size(); ++i)
-        match_->overrideVoltages(static_cast<int>(i), control_[i].controller == RobotController::Manual
-                                                          ? std::optional<Voltages>(control_[i].manual)
-                                                          : std::nullopt);
+        match_->overrideDrive(static_cast<int>(i), control_[i].controller == RobotController::Manual
+                                                       ? std::optional<DriveCommand>(control_[i].manual)
+                                                       : std::nullopt);
 }
 
 void EngineLoop::tellGame(std::int64_t nowNs, bool force) {
@@ -231,24 +231,27 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             }
             return;  // voltages get no reply (errors are the server's)
         }
-        case Kind::ManualVoltages:
-            for (const auto& [robot, e] : r.voltages) {
-                if (robot < 0 || robot >= static_cast<int>(control_.size())) continue;  // another scene's robot
+        case Kind::ManualVoltages: {
+            auto take = [&](int robot, const DriveCommand& drive) {
+                if (robot < 0 || robot >= static_cast<int>(control_.size())) return;  // another scene's robot
                 control_[robot].controller = RobotController::Manual;
-                control_[robot].manual = e;
-            }
+                control_[robot].manual = drive;
+            };
+            for (const auto& [robot, e] : r.voltages) take(robot, DriveCommand::ofVoltages(e));
+            for (const auto& [robot, w] : r.wheelSpeeds) take(robot, DriveCommand::ofWheelSpeeds(w));
             applyManual();
             return;
+        }
         case Kind::ReleaseManual: {
             if (r.robot < 0 || r.robot >= static_cast<int>(control_.size())) break;  // another scene's robot
             RobotControl& c = control_[r.robot];
             if (c.controller == RobotController::Manual) {
                 c.controller = c.client >= 0 ? RobotController::Tcp : RobotController::None;
-                c.manual = Voltages{};
+                c.manual = DriveCommand{};
                 // A remote team's robot: its last TCP voltages now; a built-in
                 // team's: its team's from the next tick (0 V until then).
                 match_->drive(r.robot, c.client >= 0 ? c.lastTcp : DriveCommand{});
-                match_->overrideVoltages(r.robot, std::nullopt);
+                match_->overrideDrive(r.robot, std::nullopt);
                 c.tcpWhileManual = false;
             }
             break;

@@ -75,7 +75,7 @@ struct RobotControl {
     int client = -1;              // the TCP client whose voltages it last took (Tcp), or -1
     DriveCommand lastTcp;         // a client's last command (V or rad/s), also while under manual control
     bool tcpWhileManual = false;  // TCP voltages arrived (and were ignored) under manual control
-    Voltages manual;              // the person's voltages while under manual control, V
+    DriveCommand manual;          // the person's command while under manual control (V, or rad/s through the loop)
 };
 const char* runModeName(RunMode mode);
 
@@ -203,7 +203,7 @@ private:
     // The camera period in whole steps, and whole game ticks while the Match ticks.
     void updateFrameSteps();
     // Hands the Match the person's voltages for the robots under manual
-    // control (Match::overrideVoltages; 0 V while the game is stopped), after
+    // control (Match::overrideDrive; 0 V while the game is stopped), after
     // a new Match or a change of who drives.
     void applyManual();
     // Tells the sink when the game's state changed (or always, `force`).

@@ -42,6 +42,7 @@ struct EngineRequest {
         WheelSpeeds,     // wheel-speed targets from a client (`client`; TCP WHEEL_SPEEDS or FIRASim):
                          // through each robot's speed loop (speed_controller.h); as Voltages otherwise
         ManualVoltages,  // from a person (keyboard, gamepad): the robots go under manual control
+                         // (`voltages`, or `wheelSpeeds` through their speed loops)
         ReleaseManual,   // `robot` back to TCP control: its last TCP voltages (0 V if none) apply again
         Pause,
         Resume,

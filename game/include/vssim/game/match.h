@@ -64,6 +64,8 @@ public:
     // team (a remote team's last voltages now, a built-in team's at the next
     // tick).
     void overrideVoltages(int robot, const std::optional<Voltages>& e);
+    // The same with wheel-speed targets through the robot's speed loop, or voltages.
+    void overrideDrive(int robot, const std::optional<DriveCommand>& command);
     // Moves a body now (a person dragging it, a client placing it).
     void placeRobot(int robot, const RobotState& pose);
     void placeBall(const BallState& ball);
@@ -90,7 +92,7 @@ private:
     bool ticking_ = false;
     std::int64_t tickSteps_ = 1;
     std::vector<DriveCommand> remote_;               // the remote teams' last commands (V or rad/s)
-    std::vector<std::optional<Voltages>> override_;  // a person's voltages per robot, V
+    std::vector<std::optional<DriveCommand>> override_;  // a person's command per robot (V or rad/s)
     std::vector<Voltages> wanted_;                   // scratch: the built-in teams' voltages
     std::uint64_t random_;                           // splitmix64 state
     bool jitter_;                                    // a seed other than 0 was given
