@@ -49,10 +49,11 @@ grep -q '^ Section: science$' "$tmp/info" || fail "control: Section is not scien
 depends=$(sed -n 's/^ Depends: //p' "$tmp/info")
 [ -n "$depends" ] || { cat "$tmp/info" >&2; fail "control: no Depends line (dpkg-shlibdeps did not run?)"; }
 step "Depends: $depends"
-for lib in libqt6core6 libqt6gui6 libqt6widgets6 libqt6network6 libopencv-core libopencv-imgproc libopencv-imgcodecs libsdl2 libc6; do
+for lib in libqt6core6 libqt6gui6 libqt6widgets6 libqt6network6 libopencv-core libopencv-imgproc libopencv-imgcodecs libsdl2 libprotobuf libc6; do
     echo "$depends" | grep -q "$lib" || fail "control: Depends lacks $lib: $depends"
 done
 grep -q '^ Suggests: .*python3-opencv' "$tmp/info" || fail "control: Suggests lacks python3-opencv"
+grep -q '^ Suggests: .*python3-protobuf' "$tmp/info" || fail "control: Suggests lacks python3-protobuf (the FIRASim example)"
 
 # 3. Unpack into a temporary root and check the files.
 root="$tmp/root"
@@ -70,6 +71,11 @@ for f in \
     usr/share/vssim/examples/README.md \
     usr/share/vssim/examples/python/vssim_client.py \
     usr/share/vssim/examples/cpp/vssim_client.cpp \
+    usr/share/vssim/examples/firasim/go_to_ball.py \
+    usr/share/vssim/examples/firasim/README.md \
+    usr/share/vssim/proto/fira_packet.proto \
+    usr/share/vssim/proto/vssref_command.proto \
+    usr/share/vssim/python_proto/fira_packet_pb2.py \
     usr/share/vssim/docs/protocol.md \
     usr/share/doc/vssim/README.md \
     usr/share/doc/vssim/copyright \
@@ -85,11 +91,14 @@ for f in \
     usr/share/doc/vssim/docs/model.md \
     usr/share/doc/vssim/docs/performance.md \
     usr/share/doc/vssim/docs/game.md \
+    usr/share/doc/vssim/docs/firasim.md \
+    usr/share/doc/vssim/docs/images/speed_loop_step.png \
     usr/share/doc/vssim/docs/images/app.png \
     usr/share/doc/vssim/docs/performance/scale.png; do
     [ -f "$root/$f" ] || fail "not in the package: /$f"
 done
-for x in usr/bin/vssim usr/bin/vssim-example-client usr/share/vssim/examples/python/vssim_client.py; do
+for x in usr/bin/vssim usr/bin/vssim-example-client usr/share/vssim/examples/python/vssim_client.py \
+         usr/share/vssim/examples/firasim/go_to_ball.py; do
     [ -x "$root/$x" ] || fail "not executable: /$x"
 done
 nscenes=$(ls "$root/usr/share/vssim/scenes/"*.json | wc -l)

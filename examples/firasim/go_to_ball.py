@@ -23,7 +23,8 @@ positive forward.
 
 Needs Python 3 and python3-protobuf, and the modules protoc generated from
 vssim's .proto files (build/python_proto): --proto-dir, or the environment
-variable VSSIM_PYTHON_PROTO, or build/python_proto next to this checkout.
+variable VSSIM_PYTHON_PROTO, or build/python_proto next to this checkout
+(installed: /usr/share/vssim/python_proto, found on its own).
 """
 
 import argparse
@@ -189,8 +190,10 @@ def load_protos(proto_dir):
     if proto_dir is None:
         proto_dir = os.environ.get("VSSIM_PYTHON_PROTO")
     if proto_dir is None:
+        # A checkout's build/python_proto, or the installed package's share/vssim/python_proto.
         here = os.path.dirname(os.path.abspath(__file__))
-        proto_dir = os.path.join(here, "..", "..", "build", "python_proto")
+        candidates = [os.path.join(here, "..", "..", "build", "python_proto"), os.path.join(here, "..", "..", "python_proto")]
+        proto_dir = next((c for c in candidates if os.path.isdir(c)), candidates[0])
     sys.path.insert(0, proto_dir)
     try:
         import fira_packet_pb2
