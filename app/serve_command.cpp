@@ -215,10 +215,12 @@ int serveCommand(const QStringList& arguments) {
     // FIRASim's interface.
     FirasimSettings fira;
     const bool firasimOn = parser.isSet(firasim) || parser.isSet(firasimSync);
-    for (const QCommandLineOption* option : {&firasimPort, &visionAddress, &visionPort, &visionRate, &multicastTtl}) {
+    for (const QCommandLineOption* option : {&firasimPort, &visionAddress, &visionPort, &visionRate}) {
         if (parser.isSet(*option) && !firasimOn)
             return usage(QStringLiteral("--%1 needs --firasim").arg(option->names().first()));
     }
+    if (parser.isSet(multicastTtl) && !firasimOn && !parser.isSet(vssref))
+        return usage("--multicast-ttl needs --firasim or --vssref");
     if (parser.isSet(firasimSync)) {
         if (parser.isSet(speed)) return usage("--firasim-sync and --speed exclude each other");
         if (parser.isSet(lockstep)) return usage("--firasim-sync and --lockstep exclude each other");

@@ -238,14 +238,21 @@ void Simulation::runSpeedLoops() {
         SpeedLoopState& loop = state_.speedLoops[i];
         if (!loop.active || loop.nextStep > state_.step) continue;
         const RobotModel& robot = model_.robots[i];
+        // A loop faster than 1/dt samples once a step: its period is then a step.
+        SpeedControllerParams params = robot.params.speed_controller;
+        const bool everyStep = params.rate * dt >= 1.0;
+        if (everyStep) params.rate = 1.0 / dt;
         const Eigen::Vector2d wheels = robot.TwInv * Eigen::Vector2d(state_.robots[i].v, state_.robots[i].omega);
-        updateSpeedLoop(robot.params.speed_controller, loop, {wheels(0), wheels(1)}, robot.params.max_voltage);
+        updateSpeedLoop(params, loop, {wheels(0), wheels(1)}, robot.params.max_voltage);
         state_.voltages[i] = loop.output;
-        // The next instant after this step (a loop faster than 1/dt samples once a step).
-        const double rate = robot.params.speed_controller.rate;
+        if (everyStep) {
+            loop.nextStep = state_.step + 1;
+            continue;
+        }
+        // The next instant after this step.
         do {
             ++loop.sample;
-            loop.nextStep = stepIndexAtOrAfter(static_cast<double>(loop.sample) / rate, dt);
+            loop.nextStep = stepIndexAtOrAfter(static_cast<double>(loop.sample) / params.rate, dt);
         } while (loop.nextStep <= state_.step);
     }
 }

@@ -73,6 +73,7 @@ void Match::placeFor(const RefereeCall& call) {
         return;
     }
     Placement jittered = spots;
+    jittered.offField = sim_.state().offField;
     for (RobotState& r : jittered.robots) {
         r.x += kPlacementJitter * uniform();
         r.y += kPlacementJitter * uniform();
@@ -137,8 +138,14 @@ void Match::drive(int robot, const DriveCommand& command) {
 
 void Match::setOnField(int robot, bool onField) {
     if (robot < 0 || robot >= static_cast<int>(teams_.size())) return;
+    if (onField == sim_.onField(robot)) return;
     sim_.setOnField(robot, onField);
-    if (onField) applyVoltages();  // back: what its team gives it now
+    if (!onField) return;
+    // Back: what drives it now (a built-in team's robot waits for the next tick at 0 V).
+    if (override_[robot])
+        sim_.drive(robot, !ticking_ || playing() ? *override_[robot] : DriveCommand{});
+    else if (!ticking_ || (playing() && control(teams_[robot]) == TeamControl::Remote))
+        sim_.drive(robot, remote_[robot]);
 }
 
 void Match::placeRobot(int robot, const RobotState& pose) { sim_.placeRobot(robot, pose); }
@@ -178,6 +185,7 @@ std::string Match::placeTeam(Team team, const std::vector<std::pair<int, RobotSt
     Placement proposed;
     proposed.robots = sim_.state().robots;
     proposed.ball = sim_.state().ball;
+    proposed.offField = sim_.state().offField;
     for (const auto& [robot, pose] : poses) {
         if (robot < 0 || robot >= static_cast<int>(teams_.size()))
             return "robot " + std::to_string(robot) + " does not exist";

@@ -206,13 +206,14 @@ std::string checkTeamPlacement(const WorldModel& model, const std::vector<Team>&
     const int penaltyGoal = static_cast<int>(defendedSide(otherTeam(call.team)));
     auto who = [&names](std::size_t i) { return names[i] + " (robot " + std::to_string(i) + ")"; };
     int inCircle = 0, exceptions = 0;
+    auto off = [&placement](std::size_t i) { return i < placement.offField.size() && placement.offField[i]; };
     for (std::size_t i = 0; i < teams.size(); ++i) {
-        if (teams[i] != team) continue;
+        if (teams[i] != team || off(i)) continue;
         const RobotState& r = placement.robots[i];
         const double side = model.sides[i];
         if (!robotInsideField(field, side, r.x, r.y, r.theta)) return who(i) + " is not wholly on the floor";
         for (std::size_t j = 0; j < teams.size(); ++j)
-            if (j != i && squareOverlap(r, side, placement.robots[j], model.sides[j]).overlapping)
+            if (j != i && !off(j) && squareOverlap(r, side, placement.robots[j], model.sides[j]).overlapping)
                 return who(i) + " overlaps " + who(j);
         if (robotBallContact(r, side, static_cast<int>(i), placement.ball, model.ball.radius))
             return who(i) + " overlaps the ball";

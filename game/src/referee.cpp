@@ -18,10 +18,14 @@ bool reached(double timer, double limit) { return timer >= limit - kTimerSlack; 
 // The stuck-ball rule's speed is the ball's mean speed over this long (s).
 constexpr double kStuckWindow = 0.5;
 
+// Robots off the field (WorldState::offField) play no part in the rules.
+bool onField(const WorldState& state, std::size_t i) { return i >= state.offField.size() || !state.offField[i]; }
+
 int robotsInArea(const WorldState& state, const Field& field, const std::vector<Team>& teams, Team team, int side) {
     int count = 0;
     for (std::size_t i = 0; i < state.robots.size(); ++i)
-        if (teams[i] == team && inGoalArea(field, side, {state.robots[i].x, state.robots[i].y})) ++count;
+        if (teams[i] == team && onField(state, i) && inGoalArea(field, side, {state.robots[i].x, state.robots[i].y}))
+            ++count;
     return count;
 }
 
@@ -142,7 +146,8 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
     }
     // Time in the own goal area, for the goalkeeper.
     for (std::size_t i = 0; i < state.robots.size(); ++i)
-        if (inGoalArea(field, static_cast<int>(defendedSide(teams[i])), {state.robots[i].x, state.robots[i].y}))
+        if (onField(state, i) &&
+            inGoalArea(field, static_cast<int>(defendedSide(teams[i])), {state.robots[i].x, state.robots[i].y}))
             game.goalAreaTime[i] += elapsed;
 
     // A stuck ball: a free ball in its quadrant, or a penalty in a goal area.

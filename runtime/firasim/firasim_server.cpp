@@ -8,7 +8,7 @@
 namespace vssim {
 
 namespace {
-constexpr int kCommandsYellow = 0, kCommandsBlue = 1, kReplacements = 2;
+constexpr int kCommandsYellow = 0, kCommandsBlue = 1, kReplacements = 2, kSteps = 3;
 }
 
 FirasimServer::FirasimServer(const Scene& scene, EngineThread& engine, const FirasimSettings& settings,
@@ -88,13 +88,16 @@ void FirasimServer::readTurn() {
     }
 }
 
-bool FirasimServer::post(EngineRequest request, int sender) {
+bool FirasimServer::post(std::vector<EngineRequest> group, int sender) {
     const std::shared_ptr<std::atomic<int>>& queued = queued_[static_cast<std::size_t>(sender)];
-    if (queued->load() >= kMaxQueuedPerSender) return false;
-    request.queued = queued;
-    queued->fetch_add(1);
-    if (!engine_.post(std::move(request))) {
-        queued->fetch_sub(1);
+    const int n = static_cast<int>(group.size());
+    // Beyond the quota, unless nothing of this sender waits (a replacement of
+    // every robot of a big scene is one group larger than the quota).
+    if (queued->load() > 0 && queued->load() + n > kMaxQueuedPerSender) return false;
+    for (EngineRequest& r : group) r.queued = queued;
+    queued->fetch_add(n);
+    if (!engine_.postGroup(std::move(group))) {
+        queued->fetch_sub(n);
         return false;
     }
     return true;
@@ -117,15 +120,6 @@ void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalN
     for (const QString& line : p.problems) log(line);
 
     const bool step = settings_.sync && p.hasCommands;
-    // Sync mode: a step for this packet must fit, or nothing of it is done.
-    if (step && queued_[kReplacements]->load() + 1 + static_cast<int>(p.robots.size()) * 2 +
-                        static_cast<int>(p.turnOff.size()) + (p.ball ? 1 : 0) >
-                    kMaxQueuedPerSender) {
-        ++stats_.busy;
-        log(QStringLiteral("sync: a command packet dropped: %1 requests already wait for the engine")
-                .arg(queued_[kReplacements]->load()));
-        return;
-    }
     if (p.hasCommands) ++stats_.commandPackets;
     for (int team : {kCommandsYellow, kCommandsBlue}) {
         const auto& speeds = p.wheelSpeeds[static_cast<std::size_t>(team)];
@@ -135,7 +129,7 @@ void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalN
         r.arrivalNs = arrivalNs;
         r.client = -1;
         r.wheelSpeeds = speeds;
-        if (post(std::move(r), team)) {
+        if (post({std::move(r)}, team)) {
             stats_.commands += static_cast<std::int64_t>(speeds.size());
         } else {
             ++stats_.busy;
@@ -144,52 +138,62 @@ void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalN
                     .arg(kMaxQueuedPerSender));
         }
     }
-    auto place = [&](EngineRequest r) {
+    // The replacement as one group, which the engine handles between two
+    // steps: robots off, robots placed (and on the field: after the pose, so
+    // that a robot coming back never appears where it was left), the ball.
+    std::vector<EngineRequest> group;
+    auto add = [&](EngineRequest r) {
         r.arrivalNs = arrivalNs;
         r.client = -1;
-        if (post(std::move(r), kReplacements)) {
-            return true;
-        }
-        ++stats_.busy;
-        log(QStringLiteral("a replacement dropped: %1 requests already wait for the engine").arg(kMaxQueuedPerSender));
-        return false;
+        group.push_back(std::move(r));
     };
     for (int robot : p.turnOff) {
         EngineRequest r;
         r.kind = EngineRequest::Kind::SetOnField;
         r.robot = robot;
         r.onField = false;
-        if (place(std::move(r))) {
-            feed_->setOnField(robot, false);
-            ++stats_.replacements;
-        }
+        add(std::move(r));
     }
     for (const FirasimPlacement& placement : p.robots) {
-        if (placement.turnOn) {
-            EngineRequest r;
-            r.kind = EngineRequest::Kind::SetOnField;
-            r.robot = placement.robot;
-            r.onField = true;
-            if (!place(std::move(r))) continue;
-            feed_->setOnField(placement.robot, true);
-        }
         EngineRequest r;
         r.kind = EngineRequest::Kind::PlaceRobot;
         r.robot = placement.robot;
         r.robotPose = placement.pose;  // at rest: v = omega = 0
-        if (place(std::move(r))) ++stats_.replacements;
+        add(r);
+        r.kind = EngineRequest::Kind::SetOnField;
+        r.onField = true;  // nothing for a robot already on the field
+        add(std::move(r));
     }
     if (p.ball) {
         EngineRequest r;
         r.kind = EngineRequest::Kind::PlaceBall;
         r.ball = *p.ball;
-        if (place(std::move(r))) ++stats_.replacements;
+        add(std::move(r));
+    }
+    if (!group.empty()) {
+        if (post(std::move(group), kReplacements)) {
+            stats_.replacements += static_cast<std::int64_t>(p.turnOff.size() + p.robots.size() + (p.ball ? 1 : 0));
+            for (int robot : p.turnOff) feed_->setOnField(robot, false);
+            for (const FirasimPlacement& placement : p.robots) feed_->setOnField(placement.robot, true);
+        } else {
+            ++stats_.busy;
+            log(QStringLiteral("a replacement dropped: %1 requests already wait for the engine")
+                    .arg(kMaxQueuedPerSender));
+        }
     }
     if (step) {
+        // Sync mode: after this packet's commands and replacement (the queue keeps their order).
         EngineRequest r;
         r.kind = EngineRequest::Kind::Step;
+        r.arrivalNs = arrivalNs;
+        r.client = -1;
         r.duration = engine_.framePeriod();  // one vision period (the engine rounds it up to whole steps)
-        if (place(std::move(r))) ++stats_.steps;
+        if (post({std::move(r)}, kSteps)) {
+            ++stats_.steps;
+        } else {
+            ++stats_.busy;
+            log(QStringLiteral("sync: a tick dropped: %1 steps already wait for the engine").arg(kMaxQueuedPerSender));
+        }
     }
 }
 

@@ -106,7 +106,9 @@ signals:
 private:
     void readTurn();
     void handleDatagram(const QByteArray& data, std::int64_t arrivalNs);
-    bool post(EngineRequest request, int sender);  // false: that sender's quota is full
+    // Posts requests the engine handles together (EngineThread::postGroup);
+    // false: that sender's quota is full, or the engine's queue.
+    bool post(std::vector<EngineRequest> group, int sender);
     void sendVision();
     void log(const QString& line);
 
@@ -120,8 +122,8 @@ private:
     bool listening_ = false;
     bool turnScheduled_ = false;
     // Requests queued and not yet handled, by sender: [0] yellow's commands,
-    // [1] blue's, [2] replacements (and sync steps).
-    std::array<std::shared_ptr<std::atomic<int>>, 3> queued_;
+    // [1] blue's, [2] replacements, [3] sync steps.
+    std::array<std::shared_ptr<std::atomic<int>>, 4> queued_;
     FirasimStats stats_;
     RateLimitedLog badInput_;
     QByteArray buffer_;

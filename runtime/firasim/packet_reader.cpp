@@ -146,8 +146,7 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
             continue;
         }
         offs.erase(robot);
-        const bool off = robot < static_cast<int>(onField.size()) && !onField[robot];
-        placements[robot] = FirasimPlacement{robot, pose, off};
+        placements[robot] = FirasimPlacement{robot, pose};
     }
 
     // The final poses, once the whole packet is applied: who is on the field where.
@@ -163,20 +162,27 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
         poses[robot] = p.pose;
         present[robot] = 1;
     }
-    const BallState finalBall = ball ? *ball : current.ball;
     const double radius = scene.ball_params.radius;
+    // Refusing one body puts it back where it was, which may make another
+    // replacement overlap it: check again until nothing more is refused.
     std::vector<char> refused(n, 0);
-    for (const auto& [robot, p] : placements) {
-        const double side = scene.robots[robot].params.side;
-        QString onto;
-        for (std::size_t j = 0; j < n && onto.isEmpty(); ++j) {
-            if (static_cast<int>(j) == robot || !present[j]) continue;
-            if (squareOverlap(poses[robot], side, poses[j], scene.robots[j].params.side).overlapping)
-                onto = QString::fromStdString(scene.robots[j].name);
-        }
-        if (onto.isEmpty() && robotBallContact(poses[robot], side, robot, finalBall, radius)) onto = "the ball";
-        if (!onto.isEmpty()) {
+    bool ballRefused = false;
+    for (bool changed = true; changed;) {
+        changed = false;
+        const BallState& finalBall = ball && !ballRefused ? *ball : current.ball;
+        for (const auto& [robot, p] : placements) {
+            if (refused[robot]) continue;
+            const double side = scene.robots[robot].params.side;
+            QString onto;
+            for (std::size_t j = 0; j < n && onto.isEmpty(); ++j) {
+                if (static_cast<int>(j) == robot || !present[j]) continue;
+                if (squareOverlap(poses[robot], side, poses[j], scene.robots[j].params.side).overlapping)
+                    onto = QString::fromStdString(scene.robots[j].name);
+            }
+            if (onto.isEmpty() && robotBallContact(poses[robot], side, robot, finalBall, radius)) onto = "the ball";
+            if (onto.isEmpty()) continue;
             refused[robot] = 1;
+            changed = true;
             ++out.refusedOverlap;
             note(out, QStringLiteral("replacement of %1 robot %2 at (%3, %4) m refused: it would overlap %5")
                           .arg(teamWord(roster.teamOf(robot) == Team::Yellow))
@@ -184,15 +190,12 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
                           .arg(p.pose.x)
                           .arg(p.pose.y)
                           .arg(onto));
+            // It stays where it is (and off the field if it was off).
+            const std::size_t i = static_cast<std::size_t>(robot);
+            poses[i] = i < current.robots.size() ? current.robots[i] : scene.robots[i].initial;
+            present[i] = i < onField.size() ? onField[i] : 1;
         }
-    }
-    // A refused robot stays where it is (and off the field if it was off).
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!refused[i]) continue;
-        poses[i] = i < current.robots.size() ? current.robots[i] : scene.robots[i].initial;
-        present[i] = i < onField.size() ? onField[i] : 1;
-    }
-    if (ball) {
+        if (!ball || ballRefused) continue;
         for (std::size_t j = 0; j < n; ++j) {
             if (!present[j] ||
                 !robotBallContact(poses[j], scene.robots[j].params.side, static_cast<int>(j), *ball, radius))
@@ -202,10 +205,12 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
                           .arg(ball->x)
                           .arg(ball->y)
                           .arg(QString::fromStdString(scene.robots[j].name)));
-            ball.reset();
+            ballRefused = true;
+            changed = true;
             break;
         }
     }
+    if (ballRefused) ball.reset();
     out.ball = ball;
     for (const auto& [robot, p] : placements)
         if (!refused[robot]) out.robots.push_back(p);

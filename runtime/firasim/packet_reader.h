@@ -41,10 +41,11 @@ constexpr double kMaxWheelSpeed = kMaxWheelSpeedTarget;  // the engine's limit (
 // +-kMaxWheelSpeed (infinities included). `changed` tells whether it had to be.
 double acceptWheelSpeed(double w, bool* changed);
 
+// A robot replacement with turnon true: placed at `pose`, and on the field
+// (brought back if it was off).
 struct FirasimPlacement {
-    int robot = -1;       // scene index
-    RobotState pose;      // m, rad; v = omega = 0
-    bool turnOn = false;  // the robot was off the field: bring it back first
+    int robot = -1;   // scene index
+    RobotState pose;  // m, rad; v = omega = 0
 };
 
 // What one datagram asks for, and what was wrong with it.

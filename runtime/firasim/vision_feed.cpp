@@ -89,7 +89,6 @@ void VisionFeed::observe(const InstantRecord& record) {
         env.SerializeToArray(item.bytes.data(), static_cast<int>(item.bytes.size()));
         item.step = record.step;
         item.frame = record.frame;
-        item.lockstepEnd = record.lockstepEnd;
         if (queue_.size() >= kMaxQueued) {
             queue_.pop_front();
             ++dropped_;

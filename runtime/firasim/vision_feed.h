@@ -37,7 +37,6 @@ struct VisionItem {
     QByteArray bytes;          // a serialised fira_message.sim_to_ref.Environment
     std::int64_t step = 0;     // simulation step
     std::int64_t frame = 0;    // camera instant number
-    bool lockstepEnd = false;  // the instant that ends a `step` request
 };
 
 class VisionFeed {

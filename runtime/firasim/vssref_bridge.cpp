@@ -14,6 +14,12 @@ namespace {
 // A VSSRef_Placement of six robots is about 150 bytes; anything far larger
 // is not one (read and dropped as malformed).
 constexpr qint64 kMaxPlacementBytes = 4096;
+// Datagrams read per turn of the event loop (the rest waits for the next
+// turn, behind the vision and the TCP clients), and placements of one team
+// waiting for the engine (more are dropped: a team's flood cannot fill the
+// engine's queue ahead of the other team's commands).
+constexpr int kMaxPlacementsPerTurn = 64;
+constexpr int kMaxQueuedPlacementsPerTeam = 8;
 
 QString describe(const QHostAddress& address, quint16 port) {
     return QStringLiteral("%1:%2").arg(address.toString()).arg(port);
@@ -190,7 +196,15 @@ void VssRefBridge::send(const VSSRef::ref_to_team::VSSRef_Command& command) {
 }
 
 void VssRefBridge::readPlacements() {
-    while (placementSocket_.hasPendingDatagrams()) {
+    readScheduled_ = false;
+    for (int read = 0; placementSocket_.hasPendingDatagrams(); ++read) {
+        if (read == kMaxPlacementsPerTurn) {
+            if (!readScheduled_) {
+                readScheduled_ = true;
+                QTimer::singleShot(0, this, &VssRefBridge::readPlacements);
+            }
+            return;
+        }
         const qint64 size = placementSocket_.pendingDatagramSize();
         if (size > kMaxPlacementBytes) {
             const QNetworkDatagram dropped = placementSocket_.receiveDatagram(0);  // discards it
@@ -245,6 +259,7 @@ void VssRefBridge::handlePlacement(const QByteArray& bytes, const QHostAddress& 
     Placement proposed;
     proposed.robots = latest.world.robots;
     proposed.ball = latest.world.ball;
+    proposed.offField = latest.world.offField;
     if (proposed.robots.size() == scene_.robots.size()) {
         for (const auto& [robot, pose] : placement->poses) proposed.robots[static_cast<std::size_t>(robot)] = pose;
         const std::string illegal =
@@ -264,7 +279,18 @@ void VssRefBridge::handlePlacement(const QByteArray& bytes, const QHostAddress& 
     request.client = -1;  // no reply
     request.team = placement->team;
     request.poses = placement->poses;
+    const std::shared_ptr<std::atomic<int>>& queued = queuedPlacements_[teamIndex(placement->team)];
+    if (queued->load() >= kMaxQueuedPlacementsPerTeam) {
+        ++stats_.engineBusy;
+        log(QStringLiteral("%1 dropped: %2 of this team's placements already wait for the engine")
+                .arg(source)
+                .arg(kMaxQueuedPlacementsPerTeam));
+        return;
+    }
+    request.queued = queued;
+    queued->fetch_add(1);
     if (!engine_.post(std::move(request))) {
+        queued->fetch_sub(1);
         ++stats_.engineBusy;
         log(QStringLiteral("%1 dropped: the engine's queue is full").arg(source));
         return;

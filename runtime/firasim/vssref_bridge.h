@@ -26,6 +26,8 @@
 #include <QString>
 #include <QTimer>
 #include <QUdpSocket>
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -59,7 +61,7 @@ struct VssRefStats {
     std::int64_t rejected = 0;            // colour NONE, unknown robot ids, NaN, outside the field...
     std::int64_t illegal = 0;             // against the rules of the call being played
     std::int64_t notStopped = 0;          // arrived while the game was not in STOP, or without a referee
-    std::int64_t engineBusy = 0;          // the engine's queue was full
+    std::int64_t engineBusy = 0;          // the engine's queue, or the team's share of it, was full
 };
 
 class VssRefBridge : public QObject {
@@ -128,6 +130,10 @@ private:
     VssRefStats stats_;
     bool sent_ = false;
     VSSRef::ref_to_team::VSSRef_Command last_;
+    bool readScheduled_ = false;  // a turn to read the rest of the placements is queued
+    // Placements posted and not yet handled by the engine, by team ([Yellow], [Blue]).
+    std::array<std::shared_ptr<std::atomic<int>>, 2> queuedPlacements_{std::make_shared<std::atomic<int>>(0),
+                                                                        std::make_shared<std::atomic<int>>(0)};
 };
 
 }  // namespace vssim

@@ -272,11 +272,17 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             now.commands.clear();  // the schedule's times refer to the old clock
             newMatch(now);
             if (!now.game.rules.referee) {
-                // No game to restart: the bodies stay, with their voltages.
+                // No game to restart: the bodies stay, with their voltages,
+                // a client's wheel speeds (its speed loop starting afresh)
+                // and off the field if they were.
                 for (std::size_t i = 0; i < before.robots.size(); ++i) {
-                    match_->placeRobot(static_cast<int>(i), before.robots[i]);
+                    const int robot = static_cast<int>(i);
+                    match_->placeRobot(robot, before.robots[i]);
                     if (control_[i].controller != RobotController::Manual)
-                        match_->setVoltages(static_cast<int>(i), before.voltages[i]);
+                        match_->drive(robot, before.speedLoops[i].active
+                                                 ? DriveCommand::ofWheelSpeeds(before.speedLoops[i].target)
+                                                 : DriveCommand::ofVoltages(before.voltages[i]));
+                    if (before.offField[i]) match_->setOnField(robot, false);
                 }
                 match_->placeBall(before.ball);
                 stillHalted();  // the same state: still non-finite, or mended by placements
@@ -327,7 +333,9 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
             updateFrameSteps();
             // The next camera instant on a tick boundary, if the Match ticks now.
             if (fractionalFrames_) {
-                restartFrames(simulation().state().step);
+                // The same schedule, now on tick boundaries or not: its next instant after now.
+                while (frameStepAt(frameIndex_) <= simulation().state().step) ++frameIndex_;
+                nextFrameStep_ = frameStepAt(frameIndex_);
                 break;
             }
             nextFrameStep_ = std::max(nextFrameStep_, (simulation().state().step / frameSteps_ + 1) * frameSteps_);

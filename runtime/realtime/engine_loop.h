@@ -107,7 +107,7 @@ public:
 struct EngineLoopSettings {
     RunMode mode = RunMode::Realtime;
     double speed = 1.0;         // real-time factor (realtime mode), > 0
-    double framePeriod = 0.03;  // camera period, s of simulated time (rounded to whole steps)
+    double framePeriod = 0.03;  // camera period, s of simulated time (on average: see "fractionalFrames_")
     double maxLag = 0.5;        // s of wall time: further behind than this, realtime drops the lag
 };
 

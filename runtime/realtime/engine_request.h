@@ -80,6 +80,9 @@ struct EngineRequest {
     // The sender's count of requests queued and not yet handled: the engine
     // decrements it after handling (a per-client quota against floods).
     std::shared_ptr<std::atomic<int>> queued;
+    // The next request belongs with this one (EngineThread::postGroup): the
+    // engine handles them in one pass, with no step in between.
+    bool groupedWithNext = false;
     std::shared_ptr<const Scene> scene;             // LoadScene
     bool startPaused = false;                       // LoadScene: paused at t = 0 (otherwise as before)
     Call call = Call::None;                         // CallFoul

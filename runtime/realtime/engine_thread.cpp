@@ -37,6 +37,19 @@ bool EngineThread::post(EngineRequest request) {
     return true;
 }
 
+bool EngineThread::postGroup(std::vector<EngineRequest> group) {
+    if (group.empty()) return true;
+    for (std::size_t i = 0; i + 1 < group.size(); ++i) group[i].groupedWithNext = true;
+    group.back().groupedWithNext = false;
+    {
+        std::lock_guard lock(mutex_);
+        if (inbox_.size() + group.size() > kMaxQueuedRequests) return false;
+        for (EngineRequest& r : group) inbox_.push_back(std::move(r));
+    }
+    wake_.notify_one();
+    return true;
+}
+
 void EngineThread::setSubscriptions(const std::vector<ImageSubscription>& images, bool state) {
     std::lock_guard lock(mutex_);
     images_ = images;
@@ -114,7 +127,8 @@ void EngineThread::run() {
             }
             if (stop_) break;
             // A slice at a time, so that a flood cannot hold simulated time still.
-            const std::size_t n = std::min(inbox_.size(), kMaxRequestsPerPass);
+            std::size_t n = std::min(inbox_.size(), kMaxRequestsPerPass);
+            while (n < inbox_.size() && inbox_[n - 1].groupedWithNext) ++n;  // a group stays whole
             batch.assign(std::make_move_iterator(inbox_.begin()), std::make_move_iterator(inbox_.begin() + n));
             inbox_.erase(inbox_.begin(), inbox_.begin() + n);
         }
@@ -149,7 +163,6 @@ void EngineThread::tellObservers(const Simulation& sim, std::int64_t frame, std:
     record.step = sim.state().step;
     record.time = sim.state().time;
     record.instantNs = nowNs;
-    record.lockstepEnd = loop_ && (loop_->mode() == RunMode::Lockstep || loop_->paused());
     record.world = sim.state();
     if (loop_) {
         record.referee = loop_->match().scene().game.rules.referee;

@@ -40,6 +40,10 @@ public:
     // Queues a request (any thread). False when the queue is full (a flood):
     // the caller answers `busy`.
     bool post(EngineRequest request);
+    // Queues requests to be handled together, in order, with no simulated
+    // time between them (a FIRASim replacement of several bodies). False,
+    // and nothing queued, when they do not all fit.
+    bool postGroup(std::vector<EngineRequest> group);
     // What the camera instants must produce (any thread; takes effect at the next instant).
     void setSubscriptions(const std::vector<ImageSubscription>& images, bool state);
     std::vector<OutboxItem> takeOutbox();
@@ -56,7 +60,7 @@ public:
     static constexpr std::size_t kMaxQueuedFrames = 64;      // in the outbox; beyond, the oldest go
     static constexpr std::size_t kMaxRequestsPerPass = 256;  // handled between two runUntil calls
     static constexpr int kMaxPendingFrames = 4;  // rendered and not yet taken; beyond, instants are not rendered
-    double framePeriod() const;                  // s: the camera period in whole steps
+    double framePeriod() const;                  // s: the camera period (EngineLoop::framePeriod)
 
 signals:
     // The outbox went from empty to not empty (emitted from the engine thread).

@@ -22,7 +22,6 @@ struct InstantRecord {
     std::int64_t step = 0;      // steps of dt simulated (world.step)
     double time = 0.0;          // simulated time, s
     std::int64_t instantNs = 0; // monotonicNs() when the engine reached it
-    bool lockstepEnd = false;   // the instant ends a `step` request (lockstep or paused)
     WorldState world;           // positions, velocities, voltages (SI units)
     bool referee = false;       // the built-in referee is on (then `game` is its state)
     GameState game;

@@ -30,8 +30,9 @@ struct SpeedControllerParams {
     double ki = 10.0;     // integral gain, V per rad of accumulated error (V/(rad/s)/s)
     // Encoder counts per wheel revolution (at the wheel, after the gearbox);
     // 0 measures the exact wheel speed. With N counts the measured speed is
-    // the whole counts turned in the last period times 2 pi / (N T): steps of
-    // 2 pi / (N T) rad/s, the fraction of a count carried over.
+    // a whole number of counts times 2 pi / (N T): the counts turned in the
+    // period, estimated as the speed at the sample times T (not its average
+    // over the period), with the fraction of a count carried over.
     int encoder_counts = 0;
 };
 

@@ -27,6 +27,9 @@ namespace vssim {
 struct Placement {
     std::vector<RobotState> robots;  // every robot of the scene
     BallState ball;
+    // Robots off the field (WorldState::offField; empty: none): a team's
+    // placement is not checked for them, nor against them.
+    std::vector<char> offField;
 };
 
 // The referee's placement for `call`, starting from `state` (a robot that no
