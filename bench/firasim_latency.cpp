@@ -62,7 +62,7 @@ namespace {
 using fira_message::sim_to_ref::Environment;
 using fira_message::sim_to_ref::Packet;
 
-constexpr double kDt = 0.001;                     // the kick-off scene's step, s
+constexpr double kDt = 0.001;                       // the kick-off scene's step, s
 constexpr double kVisionPeriodSteps = 1000 / 60.0;  // 60 Hz on 1 ms steps
 constexpr std::int64_t kCommandPeriodNs = 7'000'000;
 constexpr double kMaxWheelSpeed = 30.0;  // rad/s, the commands' range (0.75 m/s at the rim)
@@ -164,12 +164,12 @@ struct Server {
 
     Server(const Options& options, const QStringList& extra, double seconds, bool firasim) {
         process.setProcessChannelMode(QProcess::ForwardedErrorChannel);
-        QStringList arguments = {"serve",         QString::fromStdString(options.sceneFile),
-                                 "--port",        "0",
-                                 "--yellow",      "tcp",
-                                 "--blue",        "tcp",
-                                 "--referee",     "off",
-                                 "--quit-after",  QString::number(seconds + 30)};
+        QStringList arguments = {"serve",        QString::fromStdString(options.sceneFile),
+                                 "--port",       "0",
+                                 "--yellow",     "tcp",
+                                 "--blue",       "tcp",
+                                 "--referee",    "off",
+                                 "--quit-after", QString::number(seconds + 30)};
         process.start(QStringLiteral(VSSIM_BINARY), arguments + extra);
         if (!process.waitForStarted(5000)) throw std::runtime_error("vssim serve did not start");
         tcpPort = static_cast<quint16>(readLine().section(':', -1).toUInt());  // "listening on 127.0.0.1:PORT"
@@ -217,8 +217,7 @@ void value(std::ostream& out, const char* scenario, const char* source, const ch
 
 std::string quartiles(const QJsonObject& s) {
     std::ostringstream text;
-    text << "median " << s["median"].toDouble() << ", p99 " << s["p99"].toDouble() << ", max "
-         << s["max"].toDouble();
+    text << "median " << s["median"].toDouble() << ", p99 " << s["p99"].toDouble() << ", max " << s["max"].toDouble();
     return text.str();
 }
 
@@ -345,14 +344,12 @@ void firasimRealtime(const Options& options, std::ostream& out, std::ostream& lo
     const SampleSummary period = seen.periodMs.summary();
     log << "  firasim realtime: " << duration << " s, " << commands[0] + commands[1]
         << " command packets (both teams, 7 ms each), late " << stats["late_commands"].toInt() << "\n"
-        << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject())
-        << " ms\n"
-        << "  vision at the client: " << seen.received << " Environments, " << seen.lost
-        << " lost (" << drops << " dropped by the kernel); period median " << period.median << " ms, stddev "
-        << period.stddev << " ms, p99 " << period.p99 << " ms, max " << period.max << " ms\n"
+        << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject()) << " ms\n"
+        << "  vision at the client: " << seen.received << " Environments, " << seen.lost << " lost (" << drops
+        << " dropped by the kernel); period median " << period.median << " ms, stddev " << period.stddev << " ms, p99 "
+        << period.p99 << " ms, max " << period.max << " ms\n"
         << "  steps between Environments: " << seen.gaps() << "\n"
-        << "  arrival against the simulated-time schedule, |deviation|: " << jitterText(seen.jitter.summary())
-        << "\n"
+        << "  arrival against the simulated-time schedule, |deviation|: " << jitterText(seen.jitter.summary()) << "\n"
         << "  bytes: Environment " << seen.bytes.summary().median << ", command packet (3 robots) yellow "
         << commandBytes[0].summary().median << ", blue " << commandBytes[1].summary().median << "\n";
 }
@@ -388,7 +385,8 @@ void tcpRealtime(const Options& options, std::ostream& out, std::ostream& log) {
             for (int r : robots[t]) entries.push_back({r, {random.bounded(14.8) - 7.4, random.bounded(14.8) - 7.4}});
             const QByteArray payload = protocol::encodeVoltages(entries);
             team[t].send(protocol::MessageType::Voltages, payload);
-            voltagesBytes.add(static_cast<double>(protocol::encodeMessage(protocol::MessageType::Voltages, payload).size()));
+            voltagesBytes.add(
+                static_cast<double>(protocol::encodeMessage(protocol::MessageType::Voltages, payload).size()));
             ++commands;
             next[t] += kCommandPeriodNs;
         }
@@ -430,10 +428,9 @@ void tcpRealtime(const Options& options, std::ostream& out, std::ostream& log) {
     value(out, s, "server", "late_commands", stats["late_commands"].toDouble());
 
     const SampleSummary period = periodMs[0].summary();
-    log << "  tcp realtime (baseline): " << duration << " s, " << commands
-        << " VOLTAGES (both teams, 7 ms each), late " << stats["late_commands"].toInt() << "\n"
-        << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject())
-        << " ms\n"
+    log << "  tcp realtime (baseline): " << duration << " s, " << commands << " VOLTAGES (both teams, 7 ms each), late "
+        << stats["late_commands"].toInt() << "\n"
+        << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject()) << " ms\n"
         << "  STATE at the yellow client: " << states[0] << " received, " << lost[0] << " lost (blue " << lost[1]
         << "); period median " << period.median << " ms, stddev " << period.stddev << " ms, p99 " << period.p99
         << " ms, max " << period.max << " ms\n"
@@ -485,9 +482,9 @@ void firasimMax(const Options& options, std::ostream& out, std::ostream& log) {
 
     log << "  firasim max: " << seen.wallSeconds() << " s, " << seen.simulatedSeconds() << " s simulated: " << rate
         << "x real time; " << visionRate << " Environments/s received (" << seen.received << ", " << seen.lost
-        << " instants not received, " << drops << " of them dropped by the kernel), " << commands << " command packets answered\n"
-        << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject())
-        << " ms\n"
+        << " instants not received, " << drops << " of them dropped by the kernel), " << commands
+        << " command packets answered\n"
+        << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject()) << " ms\n"
         << "  steps between Environments: " << seen.gaps() << "\n";
 }
 
@@ -546,8 +543,8 @@ void firasimSync(const Options& options, std::ostream& out, std::ostream& log) {
     value(out, s, "client", "simulated_seconds_per_wall_second", simulated / seconds);
 
     log << "  firasim sync: " << ticks << " ticks in " << seconds << " s: " << static_cast<double>(ticks) / seconds
-        << " ticks/s, " << simulated / seconds << "x real time; round trip median "
-        << roundTripMs.summary().median << " ms, p99 " << roundTripMs.summary().p99 << " ms\n";
+        << " ticks/s, " << simulated / seconds << "x real time; round trip median " << roundTripMs.summary().median
+        << " ms, p99 " << roundTripMs.summary().p99 << " ms\n";
 }
 
 }  // namespace
