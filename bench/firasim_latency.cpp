@@ -551,10 +551,17 @@ void firasimSync(const Options& options, std::ostream& out, std::ostream& log) {
 
 int firasimLatency(const Options& options, std::ostream& out, std::ostream& log) {
     out << "scenario,source,metric,count,median,p99,max,mean,stddev\n" << std::setprecision(6);
-    firasimRealtime(options, out, log);
-    tcpRealtime(options, out, log);
-    firasimMax(options, out, log);
-    firasimSync(options, out, log);
+    // The machine's load beside each scenario: the cores are shared.
+    auto load = [&log] {
+        QFile file(QStringLiteral("/proc/loadavg"));
+        if (file.open(QIODevice::ReadOnly))
+            log << "  load average: " << file.readLine().trimmed().toStdString() << "\n";
+    };
+    for (auto scenario : {firasimRealtime, tcpRealtime, firasimMax, firasimSync}) {
+        load();
+        scenario(options, out, log);
+    }
+    load();
     return 0;
 }
 
