@@ -278,13 +278,20 @@ struct VisionLog {
     }
     double wallSeconds() const { return 1e-9 * static_cast<double>(lastNs - firstNs); }
     double simulatedSeconds() const { return kDt * static_cast<double>(lastStep - firstStep); }
+    // "16 steps: N, 17 steps: M" and the longer gaps (instants lost) in one figure.
     std::string gaps() const {
         std::ostringstream text;
-        bool first = true;
+        std::int64_t longer = 0, longest = 0;
         for (const auto& [steps, count] : stepGaps) {
-            text << (first ? "" : ", ") << steps << " steps: " << count;
-            first = false;
+            if (steps <= 17) {
+                text << steps << " steps: " << count << ", ";
+            } else {
+                longer += count;
+                longest = std::max(longest, steps);
+            }
         }
+        text << "longer: " << longer;
+        if (longer > 0) text << " (the longest " << longest << " steps)";
         return text.str();
     }
 };
