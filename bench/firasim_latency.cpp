@@ -486,11 +486,16 @@ void firasimMax(const Options& options, std::ostream& out, std::ostream& log) {
     value(out, s, "client", "vision_lost", static_cast<double>(seen.lost));
     value(out, s, "client", "vision_kernel_drops", static_cast<double>(drops));
     value(out, s, "client", "commands_sent", static_cast<double>(commands));
+    // Each command packet the engine applied is one latency sample; the rest
+    // were refused as busy (a team's quota of requests waiting was full).
+    const double applied = stats["command_latency_ms"].toObject()["count"].toDouble();
+    value(out, s, "server", "commands_applied", applied);
 
     log << "  firasim max: " << seen.wallSeconds() << " s, " << seen.simulatedSeconds() << " s simulated: " << rate
         << "x real time; " << visionRate << " Environments/s received (" << seen.received << ", " << seen.lost
         << " instants not received, " << drops << " of them dropped by the kernel), " << commands
-        << " command packets answered\n"
+        << " command packets answered, " << applied << " of them applied ("
+        << 100.0 * applied / static_cast<double>(commands) << " %; the rest refused as busy)\n"
         << "  command latency (arrival -> applied): " << quartiles(stats["command_latency_ms"].toObject()) << " ms\n"
         << "  steps between Environments: " << seen.gaps() << "\n";
 }
