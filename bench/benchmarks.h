@@ -23,6 +23,7 @@ int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log)
 int scale(const Options& options, std::ostream& out, std::ostream& log);
 int stability(const Options& options, std::ostream& out, std::ostream& log);
 int serveLatency(const Options& options, std::ostream& out, std::ostream& log);
+int firasimLatency(const Options& options, std::ostream& out, std::ostream& log);
 int matchBenchmark(const Options& options, std::ostream& out, std::ostream& log);
 
 }  // namespace vssim::bench

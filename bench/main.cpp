@@ -1,7 +1,7 @@
 // vssim_bench: runs the benchmarks of docs/performance.md and writes CSV.
 //
 //   vssim_bench [--quick] [--out DIR] [--scene FILE] [--field NAME]
-//               [all|work-precision|realtime|scale|stability|serve|match]...
+//               [all|work-precision|realtime|scale|stability|serve|firasim|match]...
 #include <QCoreApplication>
 #include <QDir>
 #include <cstdio>
@@ -27,6 +27,9 @@ const char* kHelp =
     "  stability        each integrator's stability limit in step size (stability.csv)\n"
     "  serve            vssim serve in real time for a minute: command latency, image period and\n"
     "                   jitter, render/encode time, bytes per frame (serve.csv)\n"
+    "  firasim          vssim serve --firasim, both teams as UDP clients: command latency, vision\n"
+    "                   period and jitter at 60 Hz, bytes per packet, with the TCP protocol beside\n"
+    "                   as a baseline; --speed max and --firasim-sync rates (firasim.csv)\n"
     "  match            whole 3-vs-3 matches with the referee: real-time factor, the built-in\n"
     "                   team's goals against an idle team and itself, the game layer's cost (match.csv)\n"
     "\n"
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
         {"scale", {vssim::bench::scale, "scale.csv"}},
         {"stability", {vssim::bench::stability, "stability.csv"}},
         {"serve", {vssim::bench::serveLatency, "serve.csv"}},
+        {"firasim", {vssim::bench::firasimLatency, "firasim.csv"}},
         {"match", {vssim::bench::matchBenchmark, "match.csv"}},
     };
     std::vector<std::string> chosen;
@@ -87,7 +91,7 @@ int main(int argc, char** argv) {
         }
     }
     if (chosen.empty())
-        for (const char* name : {"stability", "work-precision", "realtime", "scale", "serve", "match"})
+        for (const char* name : {"stability", "work-precision", "realtime", "scale", "serve", "firasim", "match"})
             chosen.push_back(name);
     if (!QDir().mkpath(QString::fromStdString(outDir))) {
         std::cerr << "vssim_bench: cannot create " << outDir << "\n";
