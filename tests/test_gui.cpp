@@ -252,7 +252,12 @@ private slots:
         action(w, "action.playPause")->trigger();
         QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
         FieldView& view = w.fieldView();
-        const RobotState r2 = w.session().latest()->robots[2];
+        // The view picks robots in the snapshot it shows: wait until it shows the paused one.
+        QElapsedTimer shown;
+        shown.start();
+        while (!(view.snapshot() && view.snapshot()->paused) && shown.elapsed() < 5000) QTest::qWait(10);
+        QVERIFY(view.snapshot() && view.snapshot()->paused);
+        const RobotState r2 = view.snapshot()->robots[2];
         QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r2.x, r2.y));
         QCOMPARE(view.selectedRobot(), 2);
         QTest::keyPress(&view, Qt::Key_W);

@@ -750,8 +750,9 @@ private slots:
             }
             QVERIFY(newest);
             const double now = served.engine->snapshots().latest()->time;
-            // Within two frame periods (60 ms) of the present, and far from the 1.5 s it slept.
-            QVERIFY2(now - newest->header.time <= 0.06 + 1e-9,
+            // Near the present (two frame periods, 60 ms, on a quiet machine; up
+            // to 0.3 s allowed for a loaded one), far from the 1.5 s it slept.
+            QVERIFY2(now - newest->header.time <= 0.3,
                      qPrintable(QString("image %1 s old").arg(now - newest->header.time)));
         }
         QVERIFY(served.server->clients()[0].framesDropped > 0);
