@@ -36,6 +36,8 @@ private slots:
     void visionMatchesTheState();
     void replacement();
     void turnOffAndOn();
+    void replacementAcrossDatagrams();
+    void ballOnAWallWithinTheSlack();
     void goalWithTheReferee();
     void goalWithAnExternalReferee();
     void syncIsDeterministic();
@@ -132,6 +134,70 @@ void TestFirasim::replacement() {
     QVERIFY(std::abs(findRobot(swapped, true, 0)->y() - 0.4) < 1e-6);
     QVERIFY(std::abs(findRobot(swapped, true, 1)->x() - before0.x()) < 1e-6);
     QCOMPARE(f.server->stats().refusedReplacements, std::int64_t{0});
+}
+
+void TestFirasim::replacementAcrossDatagrams() {
+    // VSSReferee sends blue's robots, yellow's and the ball in three
+    // datagrams: blue 1 onto yellow 1's spot is blocked until the next
+    // datagram moves yellow 1 away, then applied.
+    Fira f(kickoff(), true);
+    const std::optional<Environment> first = f.next();
+    QVERIFY(first);
+    const fira_message::Robot y1 = *findRobot(*first, true, 1);
+    Packet blues;
+    replaceRobot(blues, false, 1, y1.x(), y1.y(), 0.0);
+    f.send(blues);
+    Packet yellows;
+    replaceRobot(yellows, true, 1, y1.x(), y1.y() + 0.3, 0.0);
+    f.send(yellows);
+    Environment env = f.step();
+    QVERIFY(std::abs(findRobot(env, false, 1)->x() - y1.x()) < 1e-6);
+    QVERIFY(std::abs(findRobot(env, false, 1)->y() - y1.y()) < 1e-6);
+    QVERIFY(std::abs(findRobot(env, true, 1)->y() - (y1.y() + 0.3)) < 1e-6);
+    QCOMPARE(f.server->stats().deferredReplacements, std::int64_t{1});
+    QCOMPARE(f.server->stats().refusedReplacements, std::int64_t{0});
+    // Onto a robot that stays: refused at the next tick (sync mode decides then).
+    const fira_message::Robot y0 = *findRobot(env, true, 0);
+    const fira_message::Robot b2 = *findRobot(env, false, 2);
+    Packet onto;
+    replaceRobot(onto, false, 2, y0.x(), y0.y(), 0.0);
+    f.send(onto);
+    env = f.step();
+    QCOMPARE(f.server->stats().refusedReplacements, std::int64_t{1});
+    QVERIFY(std::hypot(findRobot(env, false, 2)->x() - b2.x(), findRobot(env, false, 2)->y() - b2.y()) < 1e-6);
+
+    // In real time a blocked replacement waits out its grace (20 ms), then is refused.
+    Fira live(kickoff(), false);
+    const std::optional<Environment> now = live.next();
+    QVERIFY(now);
+    const fira_message::Robot ly0 = *findRobot(*now, true, 0);
+    Packet stuck;
+    replaceRobot(stuck, false, 2, ly0.x(), ly0.y(), 0.0);
+    live.send(stuck);
+    QTRY_COMPARE_WITH_TIMEOUT(live.server->stats().refusedReplacements, std::int64_t{1}, 5000);
+    QCOMPARE(live.server->stats().deferredReplacements, std::int64_t{0});
+}
+
+void TestFirasim::ballOnAWallWithinTheSlack() {
+    // A referee's float rounding puts a ball resting on a wall a few 1e-8 m
+    // into it: accepted (within kReplacementWallSlack, 0.5 mm) and put back
+    // on the field by the next contact pass; 2 mm into the wall is refused.
+    Fira f(kickoff(), true);
+    QVERIFY(f.next());
+    const double top = 0.65 - 0.02135;  // the ball's centre when it touches the top wall, m
+    Packet in;
+    replaceBall(in, 0.27, top + 3e-8, 0.0, 0.0);
+    f.send(in);
+    Environment env = f.step();
+    QCOMPARE(f.server->stats().refusedReplacements, std::int64_t{0});
+    QVERIFY(std::abs(env.frame().ball().x() - 0.27) < 1e-6);
+    QVERIFY(env.frame().ball().y() <= top + 1e-9);
+    Packet deep;
+    replaceBall(deep, -0.27, top + 2e-3, 0.0, 0.0);
+    f.send(deep);
+    env = f.step();
+    QCOMPARE(f.server->stats().refusedReplacements, std::int64_t{1});
+    QVERIFY(std::abs(env.frame().ball().x() - 0.27) < 1e-6);
 }
 
 void TestFirasim::turnOffAndOn() {

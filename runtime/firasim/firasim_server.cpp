@@ -24,6 +24,8 @@ FirasimServer::FirasimServer(const Scene& scene, EngineThread& engine, const Fir
       badInput_([this](const QString& line) { emit logLine(QStringLiteral("firasim: ") + line); }) {
     for (auto& q : queued_) q = std::make_shared<std::atomic<int>>(0);
     connect(&commands_, &QUdpSocket::readyRead, this, &FirasimServer::readTurn);
+    blockedTimer_.setSingleShot(true);
+    connect(&blockedTimer_, &QTimer::timeout, this, [this] { retryBlocked(monotonicNs(), false); });
 }
 
 FirasimServer::~FirasimServer() {
@@ -103,10 +105,101 @@ bool FirasimServer::post(std::vector<EngineRequest> group, int sender) {
     return true;
 }
 
-void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalNs) {
+WorldState FirasimServer::knownWorld(std::vector<char>& present, std::int64_t nowNs) {
     const std::optional<WorldState> latest = feed_->latestWorld();
-    const WorldState current = latest ? *latest : initialWorldState(scene_);
-    const std::vector<char> onField = feed_->onField();
+    WorldState world = latest ? *latest : initialWorldState(scene_);
+    present = feed_->onField();
+    present.resize(scene_.robots.size(), 1);
+    for (auto it = recentRobots_.begin(); it != recentRobots_.end();) {
+        if (nowNs - it->second.first > kRecentPlacementNs) {
+            it = recentRobots_.erase(it);
+            continue;
+        }
+        if (it->first < static_cast<int>(world.robots.size())) world.robots[it->first] = it->second.second;
+        ++it;
+    }
+    if (recentBall_ && nowNs - recentBall_->first > kRecentPlacementNs) recentBall_.reset();
+    if (recentBall_) world.ball = recentBall_->second;
+    return world;
+}
+
+bool FirasimServer::postPlacement(const FirasimPlacement& placement, std::int64_t arrivalNs) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::PlaceRobot;
+    r.arrivalNs = arrivalNs;
+    r.robot = placement.robot;
+    r.robotPose = placement.pose;  // at rest: v = omega = 0
+    EngineRequest on = r;
+    on.kind = EngineRequest::Kind::SetOnField;  // after the pose; nothing for a robot already on the field
+    on.onField = true;
+    if (!post({r, on}, kReplacements)) return false;
+    ++stats_.replacements;
+    feed_->setOnField(placement.robot, true);
+    recentRobots_[placement.robot] = {arrivalNs, placement.pose};
+    return true;
+}
+
+bool FirasimServer::postBall(const BallState& ball, std::int64_t arrivalNs) {
+    EngineRequest r;
+    r.kind = EngineRequest::Kind::PlaceBall;
+    r.arrivalNs = arrivalNs;
+    r.ball = ball;
+    if (!post({r}, kReplacements)) return false;
+    ++stats_.replacements;
+    recentBall_ = std::pair{arrivalNs, ball};
+    return true;
+}
+
+void FirasimServer::retryBlocked(std::int64_t nowNs, bool final) {
+    std::int64_t nextDeadline = -1;
+    for (bool progress = true; progress && !blocked_.empty();) {
+        progress = false;
+        for (auto it = blocked_.begin(); it != blocked_.end();) {
+            std::vector<char> present;
+            const WorldState world = knownWorld(present, nowNs);
+            QString onto;
+            if (it->ball) {
+                onto = firasimBallOverlap(scene_, it->ballState, world.robots, present);
+            } else {
+                std::vector<RobotState> poses = world.robots;
+                poses[static_cast<std::size_t>(it->placement.robot)] = it->placement.pose;
+                present[static_cast<std::size_t>(it->placement.robot)] = 1;
+                onto = firasimRobotOverlap(scene_, it->placement.robot, poses, present, world.ball);
+            }
+            if (onto.isEmpty()) {  // the way is clear now
+                const bool posted =
+                    it->ball ? postBall(it->ballState, nowNs) : postPlacement(it->placement, nowNs);
+                if (posted) {
+                    ++stats_.deferredReplacements;
+                } else {
+                    ++stats_.busy;
+                    log(QStringLiteral("a replacement dropped: %1 requests already wait for the engine")
+                            .arg(kMaxQueuedPerSender));
+                }
+                it = blocked_.erase(it);
+                progress = true;
+                continue;
+            }
+            if (final || nowNs >= it->deadlineNs) {
+                ++stats_.refusedReplacements;
+                log(it->why);
+                it = blocked_.erase(it);
+                continue;
+            }
+            nextDeadline = nextDeadline < 0 ? it->deadlineNs : std::min(nextDeadline, it->deadlineNs);
+            ++it;
+        }
+    }
+    if (blocked_.empty()) {
+        blockedTimer_.stop();
+    } else if (nextDeadline >= 0) {
+        blockedTimer_.start(static_cast<int>(std::max<std::int64_t>(1, (nextDeadline - nowNs + 999'999) / 1'000'000)));
+    }
+}
+
+void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalNs) {
+    std::vector<char> onField;
+    const WorldState current = knownWorld(onField, arrivalNs);
     const FirasimPacket p =
         readFirasimPacket(data.constData(), static_cast<int>(data.size()), scene_, roster_, current, onField);
     if (!p.parsed) {
@@ -116,7 +209,7 @@ void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalN
     }
     stats_.unknownRobots += p.unknownRobots;
     stats_.clampedSpeeds += p.clampedSpeeds;
-    stats_.refusedReplacements += p.refusedOutside + p.refusedOverlap + p.refusedBad;
+    stats_.refusedReplacements += p.refusedOutside + p.refusedBad;
     for (const QString& line : p.problems) log(line);
 
     const bool step = settings_.sync && p.hasCommands;
@@ -174,13 +267,22 @@ void FirasimServer::handleDatagram(const QByteArray& data, std::int64_t arrivalN
         if (post(std::move(group), kReplacements)) {
             stats_.replacements += static_cast<std::int64_t>(p.turnOff.size() + p.robots.size() + (p.ball ? 1 : 0));
             for (int robot : p.turnOff) feed_->setOnField(robot, false);
-            for (const FirasimPlacement& placement : p.robots) feed_->setOnField(placement.robot, true);
+            for (const FirasimPlacement& placement : p.robots) {
+                feed_->setOnField(placement.robot, true);
+                recentRobots_[placement.robot] = {arrivalNs, placement.pose};
+            }
+            if (p.ball) recentBall_ = std::pair{arrivalNs, *p.ball};
         } else {
             ++stats_.busy;
             log(QStringLiteral("a replacement dropped: %1 requests already wait for the engine")
                     .arg(kMaxQueuedPerSender));
         }
     }
+    // Replacements onto a body wait for it to move (a referee's next datagram),
+    // or, in sync mode, are decided before this packet's tick.
+    for (const auto& [placement, why] : p.blocked) blocked_.push_back({arrivalNs + kOverlapGraceNs, false, placement, {}, why});
+    if (p.blockedBall) blocked_.push_back({arrivalNs + kOverlapGraceNs, true, {}, *p.blockedBall, p.blockedBallWhy});
+    if (!blocked_.empty()) retryBlocked(arrivalNs, step);
     if (step) {
         // Sync mode: after this packet's commands and replacement (the queue keeps their order).
         EngineRequest r;

@@ -29,12 +29,16 @@
 
 #include <QHostAddress>
 #include <QObject>
+#include <QTimer>
 #include <QUdpSocket>
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <optional>
 
+#include "firasim/packet_reader.h"
 #include "firasim/rate_limited_log.h"
 #include "firasim/team_roster.h"
 #include "firasim/vision_feed.h"
@@ -64,7 +68,8 @@ struct FirasimStats {
     std::int64_t oversized = 0;            // longer than kMaxDatagramBytes, dropped
     std::int64_t unknownRobots = 0;        // commands or replacements for robots the scene lacks
     std::int64_t clampedSpeeds = 0;        // NaN, infinite or too large wheel speeds
-    std::int64_t refusedReplacements = 0;  // outside the field, overlapping, non-finite
+    std::int64_t refusedReplacements = 0;  // outside the field, overlapping (after the grace), non-finite
+    std::int64_t deferredReplacements = 0;  // blocked by a body that moved out of the way within the grace
     std::int64_t busy = 0;                 // packets (or parts) dropped: the sender's quota was full
     std::int64_t deferredTurns = 0;        // turns that left datagrams in the kernel (a flood)
     std::int64_t visionSent = 0;           // Environments sent
@@ -79,6 +84,14 @@ class FirasimServer : public QObject {
     Q_OBJECT
 public:
     static constexpr int kMaxDatagramsPerTurn = 256;
+    // A replacement onto another body waits this long (wall clock) for the
+    // body to move away (VSSReferee sends blue's robots, yellow's and the
+    // ball in three datagrams) before it is refused. In sync mode a packet
+    // that ticks decides at once, so that runs stay deterministic.
+    static constexpr std::int64_t kOverlapGraceNs = 20'000'000;
+    // What the server placed lately counts as where the bodies are, until
+    // the vision shows it (a camera period or two).
+    static constexpr std::int64_t kRecentPlacementNs = 200'000'000;
     static constexpr int kMaxDatagramBytes = 8192;
     static constexpr int kReceiveBufferBytes = 1 << 20;
     static constexpr int kMaxQueuedPerSender = 64;  // requests waiting for the engine, per team and for replacements
@@ -110,6 +123,14 @@ private:
     // false: that sender's quota is full, or the engine's queue.
     bool post(std::vector<EngineRequest> group, int sender);
     void sendVision();
+    // The bodies as the server last knew them: the latest vision, with the
+    // replacements it posted since on top (`present`: on the field).
+    WorldState knownWorld(std::vector<char>& present, std::int64_t nowNs);
+    // Blocked replacements: applies those now clear, refuses those whose
+    // grace is over (or all of them, `final`), and sets the timer for the rest.
+    void retryBlocked(std::int64_t nowNs, bool final);
+    bool postPlacement(const FirasimPlacement& placement, std::int64_t arrivalNs);
+    bool postBall(const BallState& ball, std::int64_t arrivalNs);
     void log(const QString& line);
 
     Scene scene_;
@@ -127,6 +148,17 @@ private:
     FirasimStats stats_;
     RateLimitedLog badInput_;
     QByteArray buffer_;
+    struct Blocked {
+        std::int64_t deadlineNs = 0;
+        bool ball = false;
+        FirasimPlacement placement;  // !ball
+        BallState ballState;         // ball
+        QString why;                 // the log line if it is refused
+    };
+    std::vector<Blocked> blocked_;
+    QTimer blockedTimer_;
+    std::map<int, std::pair<std::int64_t, RobotState>> recentRobots_;  // posted placements: (when, pose)
+    std::optional<std::pair<std::int64_t, BallState>> recentBall_;
 };
 
 }  // namespace vssim

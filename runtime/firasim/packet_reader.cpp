@@ -43,6 +43,27 @@ double acceptWheelSpeed(double w, bool* changed) {
     return w;
 }
 
+QString firasimRobotOverlap(const Scene& scene, int robot, const std::vector<RobotState>& poses,
+                            const std::vector<char>& present, const BallState& ball) {
+    const double side = scene.robots[robot].params.side;
+    for (std::size_t j = 0; j < poses.size(); ++j) {
+        if (static_cast<int>(j) == robot || !present[j]) continue;
+        if (squareOverlap(poses[robot], side, poses[j], scene.robots[j].params.side).overlapping)
+            return QString::fromStdString(scene.robots[j].name);
+    }
+    if (robotBallContact(poses[robot], side, robot, ball, scene.ball_params.radius)) return QStringLiteral("the ball");
+    return {};
+}
+
+QString firasimBallOverlap(const Scene& scene, const BallState& ball, const std::vector<RobotState>& poses,
+                           const std::vector<char>& present) {
+    for (std::size_t j = 0; j < poses.size(); ++j)
+        if (present[j] && robotBallContact(poses[j], scene.robots[j].params.side, static_cast<int>(j), ball,
+                                           scene.ball_params.radius))
+            return QString::fromStdString(scene.robots[j].name);
+    return {};
+}
+
 FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, const TeamRoster& roster,
                                 const WorldState& current, const std::vector<char>& onField) {
     FirasimPacket out;
@@ -98,7 +119,7 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
                           .arg(s.vx)
                           .arg(s.vy)
                           .arg(kMaxPlacedBallSpeed));
-        } else if (!discInsideField(field, scene.ball_params.radius, s.x, s.y)) {
+        } else if (!discInsideField(field, scene.ball_params.radius - kReplacementWallSlack, s.x, s.y)) {
             ++out.refusedOutside;
             note(out, QStringLiteral("ball replacement at (%1, %2) m refused: not inside the field").arg(s.x).arg(s.y));
         } else {
@@ -134,7 +155,8 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
                           .arg(id));
             continue;
         }
-        if (!robotInsideField(field, scene.robots[robot].params.side, pose.x, pose.y, pose.theta)) {
+        if (!robotInsideField(field, scene.robots[robot].params.side - 2.0 * kReplacementWallSlack, pose.x, pose.y,
+                              pose.theta)) {
             ++out.refusedOutside;
             note(out, QStringLiteral("replacement of %1 robot %2 at (%3, %4) m, %5 deg refused: not wholly inside "
                                      "the field")
@@ -162,9 +184,10 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
         poses[robot] = p.pose;
         present[robot] = 1;
     }
-    const double radius = scene.ball_params.radius;
     // Refusing one body puts it back where it was, which may make another
     // replacement overlap it: check again until nothing more is refused.
+    // Refused here means blocked: the server may still apply it once the
+    // bodies in the way have moved (a referee's next datagram).
     std::vector<char> refused(n, 0);
     bool ballRefused = false;
     for (bool changed = true; changed;) {
@@ -172,43 +195,29 @@ FirasimPacket readFirasimPacket(const char* data, int size, const Scene& scene, 
         const BallState& finalBall = ball && !ballRefused ? *ball : current.ball;
         for (const auto& [robot, p] : placements) {
             if (refused[robot]) continue;
-            const double side = scene.robots[robot].params.side;
-            QString onto;
-            for (std::size_t j = 0; j < n && onto.isEmpty(); ++j) {
-                if (static_cast<int>(j) == robot || !present[j]) continue;
-                if (squareOverlap(poses[robot], side, poses[j], scene.robots[j].params.side).overlapping)
-                    onto = QString::fromStdString(scene.robots[j].name);
-            }
-            if (onto.isEmpty() && robotBallContact(poses[robot], side, robot, finalBall, radius)) onto = "the ball";
+            const QString onto = firasimRobotOverlap(scene, robot, poses, present, finalBall);
             if (onto.isEmpty()) continue;
             refused[robot] = 1;
             changed = true;
-            ++out.refusedOverlap;
-            note(out, QStringLiteral("replacement of %1 robot %2 at (%3, %4) m refused: it would overlap %5")
-                          .arg(teamWord(roster.teamOf(robot) == Team::Yellow))
-                          .arg(roster.idOf(robot))
-                          .arg(p.pose.x)
-                          .arg(p.pose.y)
-                          .arg(onto));
+            out.blocked.push_back({p, QStringLiteral("replacement of %1 robot %2 at (%3, %4) m refused: it would overlap %5")
+                                          .arg(teamWord(roster.teamOf(robot) == Team::Yellow))
+                                          .arg(roster.idOf(robot))
+                                          .arg(p.pose.x)
+                                          .arg(p.pose.y)
+                                          .arg(onto)});
             // It stays where it is (and off the field if it was off).
             const std::size_t i = static_cast<std::size_t>(robot);
             poses[i] = i < current.robots.size() ? current.robots[i] : scene.robots[i].initial;
             present[i] = i < onField.size() ? onField[i] : 1;
         }
         if (!ball || ballRefused) continue;
-        for (std::size_t j = 0; j < n; ++j) {
-            if (!present[j] ||
-                !robotBallContact(poses[j], scene.robots[j].params.side, static_cast<int>(j), *ball, radius))
-                continue;
-            ++out.refusedOverlap;
-            note(out, QStringLiteral("ball replacement at (%1, %2) m refused: it would overlap %3")
-                          .arg(ball->x)
-                          .arg(ball->y)
-                          .arg(QString::fromStdString(scene.robots[j].name)));
-            ballRefused = true;
-            changed = true;
-            break;
-        }
+        const QString onto = firasimBallOverlap(scene, *ball, poses, present);
+        if (onto.isEmpty()) continue;
+        out.blockedBall = *ball;
+        out.blockedBallWhy =
+            QStringLiteral("ball replacement at (%1, %2) m refused: it would overlap %3").arg(ball->x).arg(ball->y).arg(onto);
+        ballRefused = true;
+        changed = true;
     }
     if (ballRefused) ball.reset();
     out.ball = ball;

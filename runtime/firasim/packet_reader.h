@@ -35,7 +35,11 @@ namespace vssim {
 
 // The largest wheel speed accepted, rad/s (about 25 m/s at the rim of a
 // 2.5 cm wheel: far beyond any VSSS motor, so it only catches garbage).
-constexpr double kMaxWheelSpeed = kMaxWheelSpeedTarget;  // the engine's limit (speed_controller.h)
+constexpr double kMaxWheelSpeed = kMaxWheelSpeedTarget;
+// How far into a wall a replaced body may reach and still be accepted, m:
+// referees compute in float (VSSReferee puts a ball resting on a wall a few
+// 1e-8 m into it); the engine's next contact pass puts it back on the field.
+constexpr double kReplacementWallSlack = 5e-4;  // the engine's limit (speed_controller.h)
 
 // A wheel-speed target as accepted: NaN -> 0, otherwise clamped to
 // +-kMaxWheelSpeed (infinities included). `changed` tells whether it had to be.
@@ -56,15 +60,29 @@ struct FirasimPacket {
     std::array<std::vector<std::pair<int, WheelSpeeds>>, 2> wheelSpeeds;
     std::optional<BallState> ball;         // an accepted ball replacement
     std::vector<FirasimPlacement> robots;  // accepted robot replacements
+    // Replacements onto another body (on the final poses of the packet):
+    // blocked, with the log line that refuses them. The server retries them
+    // briefly (a referee moves the bodies in its next datagrams) before it
+    // refuses them.
+    std::vector<std::pair<FirasimPlacement, QString>> blocked;
+    std::optional<BallState> blockedBall;
+    QString blockedBallWhy;
     std::vector<int> turnOff;              // robots to take off the field
     // Problems, counted by kind.
     int unknownRobots = 0;          // commands and replacements for robots the scene does not have
     int clampedSpeeds = 0;          // wheel speeds that were NaN, infinite or beyond the limit
     int refusedOutside = 0;         // replacements outside the field
-    int refusedOverlap = 0;         // replacements onto another body
     int refusedBad = 0;             // replacements with non-finite numbers or too fast a ball
     std::vector<QString> problems;  // one line each, for the log (bounded)
 };
+
+// What robot `robot` at poses[robot] would overlap among the robots present
+// at `poses` and the ball: a robot's name, "the ball", or empty.
+QString firasimRobotOverlap(const Scene& scene, int robot, const std::vector<RobotState>& poses,
+                            const std::vector<char>& present, const BallState& ball);
+// What the ball would overlap among the robots present: a name or empty.
+QString firasimBallOverlap(const Scene& scene, const BallState& ball, const std::vector<RobotState>& poses,
+                           const std::vector<char>& present);
 
 // Reads `size` bytes. `current`: the bodies now (for the overlap test);
 // `onField`: per scene robot, whether it is on the field now.
