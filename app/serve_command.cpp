@@ -173,15 +173,33 @@ int serveCommand(const QStringList& arguments) {
 
     ServerSettings server;
     EngineLoopSettings loop;
-    if (parser.isSet(port)) {
-        const std::optional<quint16> value = parsePort(parser.value(port));
-        if (!value) return usage(QStringLiteral("--port: expected 0 to 65535, got \"%1\"").arg(parser.value(port)));
-        server.port = *value;
-    }
-    if (parser.isSet(listen)) {
-        if (!server.address.setAddress(parser.value(listen)))
-            return usage(QStringLiteral("--listen: \"%1\" is not an IPv4 or IPv6 address").arg(parser.value(listen)));
-    }
+    // An option's port (`lowest` 0: any free port allowed) or address, into
+    // *out if given; false after a usage error.
+    auto portOption = [&](const QCommandLineOption& option, quint16 lowest, quint16* out) {
+        if (!parser.isSet(option)) return true;
+        const std::optional<quint16> value = parsePort(parser.value(option));
+        if (!value || *value < lowest) {
+            usage(QStringLiteral("--%1: expected %2 to 65535, got \"%3\"")
+                      .arg(option.names().first())
+                      .arg(lowest)
+                      .arg(parser.value(option)));
+            return false;
+        }
+        *out = *value;
+        return true;
+    };
+    auto addressOption = [&](const QCommandLineOption& option, QHostAddress* out) {
+        if (!parser.isSet(option)) return true;
+        QHostAddress address;
+        if (!address.setAddress(parser.value(option))) {
+            usage(QStringLiteral("--%1: \"%2\" is not an IPv4 or IPv6 address")
+                      .arg(option.names().first(), parser.value(option)));
+            return false;
+        }
+        *out = address;
+        return true;
+    };
+    if (!portOption(port, 0, &server.port) || !addressOption(listen, &server.address)) return 2;
     auto seconds = [&](const QCommandLineOption& option, const QString& name, double* out) {
         bool ok = false;
         const double value = parser.value(option).toDouble(&ok);
@@ -228,24 +246,9 @@ int serveCommand(const QStringList& arguments) {
         fira.sync = true;
     }
     fira.listenAddress = server.address;
-    for (const auto& [option, out] :
-         {std::pair{&firasimPort, &fira.commandPort}, std::pair{&visionPort, &fira.visionPort}}) {
-        if (!parser.isSet(*option)) continue;
-        const std::optional<quint16> value = parsePort(parser.value(*option));
-        if (!value)
-            return usage(QStringLiteral("--%1: expected 0 to 65535, got \"%2\"")
-                             .arg(option->names().first(), parser.value(*option)));
-        *out = *value;
-    }
-    if (parser.isSet(visionPort) && fira.visionPort == 0)
-        return usage("--vision-port: expected 1 to 65535 (the port the vision is sent to), got 0");
-    if (parser.isSet(visionAddress)) {
-        QHostAddress address;
-        if (!address.setAddress(parser.value(visionAddress)))
-            return usage(QStringLiteral("--vision-address: \"%1\" is not an IPv4 or IPv6 address")
-                             .arg(parser.value(visionAddress)));
-        fira.visionAddress = address;
-    }
+    if (!portOption(firasimPort, 0, &fira.commandPort) || !portOption(visionPort, 1, &fira.visionPort) ||
+        !addressOption(visionAddress, &fira.visionAddress))
+        return 2;
     if (parser.isSet(multicastTtl)) {
         bool ok = false;
         const int value = parser.value(multicastTtl).toInt(&ok);
@@ -259,22 +262,10 @@ int serveCommand(const QStringList& arguments) {
     for (const QCommandLineOption* option : {&vssrefAddress, &vssrefCommandPort, &vssrefPlacementPort})
         if (parser.isSet(*option) && !parser.isSet(vssref))
             return usage(QStringLiteral("--%1 needs --vssref").arg(option->names().first()));
-    if (parser.isSet(vssrefAddress)) {
-        QHostAddress address;
-        if (!address.setAddress(parser.value(vssrefAddress)))
-            return usage(QStringLiteral("--vssref-address: \"%1\" is not an IPv4 or IPv6 address")
-                             .arg(parser.value(vssrefAddress)));
-        ref.commandAddress = ref.placementAddress = address;
-    }
-    for (const auto& [option, out] : {std::pair{&vssrefCommandPort, &ref.commandPort},
-                                      std::pair{&vssrefPlacementPort, &ref.placementPort}}) {
-        if (!parser.isSet(*option)) continue;
-        const std::optional<quint16> value = parsePort(parser.value(*option));
-        if (!value || *value == 0)
-            return usage(QStringLiteral("--%1: expected 1 to 65535, got \"%2\"")
-                             .arg(option->names().first(), parser.value(*option)));
-        *out = *value;
-    }
+    if (!addressOption(vssrefAddress, &ref.commandAddress) || !portOption(vssrefCommandPort, 1, &ref.commandPort) ||
+        !portOption(vssrefPlacementPort, 1, &ref.placementPort))
+        return 2;
+    ref.placementAddress = ref.commandAddress;
     if (parser.isSet(multicastTtl)) ref.multicastTtl = fira.multicastTtl;
     double rate = 60.0;  // FIRASim vision, Hz asked for
     if (firasimOn) {

@@ -133,6 +133,7 @@ private slots:
         const test::Result help = runVssim({"serve", "--help"});
         QCOMPARE(help.exitCode, 0);
         QVERIFY(help.out.contains("--lockstep") && help.out.contains("docs/protocol.md"));
+        QVERIFY(help.out.contains("--firasim") && help.out.contains("--vssref") && help.out.contains("docs/firasim.md"));
         const struct {
             QStringList args;
             const char* says;
@@ -148,6 +149,21 @@ private slots:
             {{"serve", "kickoff_3v3", "--hello-timeout", "-1"}, "--hello-timeout"},
             {{"serve", "kickoff_3v3", "--bogus"}, "bogus"},
             {{"serve", "a", "b"}, "one scene only"},
+            // FIRASim's interface and VSSReferee's protocol.
+            {{"serve", "kickoff_3v3", "--vision-port", "10002"}, "--vision-port needs --firasim"},
+            {{"serve", "kickoff_3v3", "--firasim", "--vision-port", "0"}, "--vision-port: expected 1 to 65535"},
+            {{"serve", "kickoff_3v3", "--firasim", "--firasim-port", "65536"}, "--firasim-port: expected 0 to 65535"},
+            {{"serve", "kickoff_3v3", "--firasim", "--vision-address", "vision"}, "--vision-address"},
+            {{"serve", "kickoff_3v3", "--firasim", "--vision-rate", "5000"}, "--vision-rate"},
+            {{"serve", "kickoff_3v3", "--firasim", "--vision-rate", "nan"}, "--vision-rate"},
+            {{"serve", "kickoff_3v3", "--firasim", "--multicast-ttl", "300"}, "--multicast-ttl"},
+            {{"serve", "kickoff_3v3", "--multicast-ttl", "1"}, "--multicast-ttl needs --firasim or --vssref"},
+            {{"serve", "kickoff_3v3", "--firasim-sync", "--speed", "2"}, "exclude"},
+            {{"serve", "kickoff_3v3", "--referee", "external"}, "--referee external needs --firasim"},
+            {{"serve", "kickoff_3v3", "--referee", "maybe"}, "--referee"},
+            {{"serve", "kickoff_3v3", "--vssref-address", "127.0.0.1"}, "--vssref-address needs --vssref"},
+            {{"serve", "kickoff_3v3", "--vssref", "--referee", "off"}, "--vssref speaks for the built-in referee"},
+            {{"serve", "kickoff_3v3", "--vssref", "--vssref-placement-port", "0"}, "--vssref-placement-port"},
         };
         for (const auto& b : bad) {
             const test::Result r = runVssim(b.args);
