@@ -1,0 +1,62 @@
+// A small fixed pool of worker threads for data-parallel loops:
+// parallelFor(n, fn) runs fn(0) .. fn(n - 1), each exactly once, spread over
+// the workers, and returns when all are done. Workers sleep on a condition
+// variable between loops (no busy-waiting) and are joined by the destructor.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace vssim {
+
+class ThreadPool {
+public:
+    // `threads` workers; 0 means std::thread::hardware_concurrency() (at
+    // least 1). Throws std::invalid_argument for a negative count.
+    explicit ThreadPool(int threads = 0);
+    ~ThreadPool();  // wakes the workers and joins them
+    ThreadPool(const ThreadPool&) = delete;
+    ThreadPool& operator=(const ThreadPool&) = delete;
+
+    int size() const { return static_cast<int>(workers_.size()); }
+
+    // Calls fn(i) for every i in [0, n), each exactly once, on the workers,
+    // in no particular order, and blocks until every call has returned.
+    // When calls throw, every index is still run, and the exception of the
+    // lowest index that threw is rethrown here (the same one whatever the
+    // thread count). n = 0 returns at once. Calls from several threads are
+    // served one loop at a time; a call from inside fn (on a worker of this
+    // pool) runs its loop serially on that worker rather than deadlocking.
+    void parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
+
+private:
+    void workerLoop();
+    // Runs indices of the current loop until none are left; returns how many it ran.
+    std::size_t runIndices();
+
+    std::vector<std::thread> workers_;
+    std::mutex loopMutex_;  // one parallelFor at a time
+    std::mutex mutex_;      // guards everything below
+    std::condition_variable wake_;  // workers: a new loop, or shutting down
+    std::condition_variable done_;  // the caller: the loop has finished
+    bool stopping_ = false;
+    // The current loop.
+    std::uint64_t generation_ = 0;  // counts loops; a worker joins each one once
+    bool active_ = false;           // a loop is running (workers may join it)
+    const std::function<void(std::size_t)>* fn_ = nullptr;
+    std::size_t n_ = 0;
+    std::atomic<std::size_t> next_{0};  // the next index to hand out (taken by workers inside the loop)
+    std::size_t finished_ = 0;  // indices run
+    int busy_ = 0;              // workers inside the loop
+    std::exception_ptr error_;  // the exception of the lowest index that threw
+    std::size_t errorIndex_ = 0;
+};
+
+}  // namespace vssim

@@ -1,0 +1,119 @@
+#include "vssim/batch/thread_pool.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace vssim {
+
+namespace {
+// The pool whose worker this thread is, if any (a nested parallelFor runs serially).
+thread_local const ThreadPool* tCurrentPool = nullptr;
+}  // namespace
+
+ThreadPool::ThreadPool(int threads) {
+    if (threads < 0)
+        throw std::invalid_argument("ThreadPool: the thread count must be 0 (all cores) or more, not " +
+                                    std::to_string(threads));
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    workers_.reserve(static_cast<std::size_t>(threads));
+    try {
+        for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { workerLoop(); });
+    } catch (...) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread& t : workers_) t.join();
+        throw;
+    }
+}
+
+ThreadPool::~ThreadPool() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : workers_) t.join();
+}
+
+void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
+    if (n == 0) return;
+    if (tCurrentPool == this) {
+        // Called from one of our own workers: the others may all be waiting
+        // for this one, so the loop runs here, with the same error rule.
+        std::exception_ptr first;
+        for (std::size_t i = 0; i < n; ++i) {
+            try {
+                fn(i);
+            } catch (...) {
+                if (!first) first = std::current_exception();
+            }
+        }
+        if (first) std::rethrow_exception(first);
+        return;
+    }
+    std::lock_guard<std::mutex> loop(loopMutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
+    fn_ = &fn;
+    n_ = n;
+    next_.store(0, std::memory_order_relaxed);
+    finished_ = 0;
+    error_ = nullptr;
+    errorIndex_ = 0;
+    active_ = true;
+    ++generation_;
+    lock.unlock();
+    wake_.notify_all();
+    lock.lock();
+    // Done when every index has run and no worker is still inside the loop
+    // (one that is could otherwise take an index of the next loop).
+    done_.wait(lock, [this] { return finished_ == n_ && busy_ == 0; });
+    active_ = false;
+    fn_ = nullptr;
+    std::exception_ptr error = error_;
+    error_ = nullptr;
+    lock.unlock();
+    if (error) std::rethrow_exception(error);
+}
+
+std::size_t ThreadPool::runIndices() {
+    std::size_t ran = 0;
+    for (;;) {
+        const std::size_t i = next_.fetch_add(1, std::memory_order_relaxed);
+        if (i >= n_) return ran;  // n_ does not change while this worker is busy
+        try {
+            (*fn_)(i);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!error_ || i < errorIndex_) {
+                error_ = std::current_exception();
+                errorIndex_ = i;
+            }
+        }
+        ++ran;
+    }
+}
+
+void ThreadPool::workerLoop() {
+    tCurrentPool = this;
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+        wake_.wait(lock, [&] { return stopping_ || generation_ != seen; });
+        if (stopping_) return;
+        seen = generation_;
+        if (!active_) continue;  // woke after that loop had already finished
+        ++busy_;
+        lock.unlock();
+        const std::size_t ran = runIndices();
+        lock.lock();
+        finished_ += ran;
+        --busy_;
+        if (busy_ == 0 && finished_ == n_) done_.notify_one();
+    }
+}
+
+}  // namespace vssim
