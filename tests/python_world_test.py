@@ -166,6 +166,27 @@ class Determinism(unittest.TestCase):
             t.join()
         self.assertEqual(results, [reference, reference])
 
+    def test_one_world_used_from_two_threads_waits_for_the_step(self):
+        w = vssim.World("kickoff_3v3")
+        done = threading.Event()
+
+        def stepper():
+            for _ in range(200):
+                w.step(0.05)
+            done.set()
+
+        t = threading.Thread(target=stepper)
+        t.start()
+        reads = 0
+        while not done.is_set():
+            s = w.state()  # a consistent copy, never a half-taken step
+            self.assertEqual(s["time"], s["step_count"] * w.dt)
+            w.set_voltages(np.zeros((6, 2)))
+            reads += 1
+        t.join()
+        self.assertEqual(w.step_count, 10000)
+        self.assertGreater(reads, 0)
+
     def test_agrees_with_vssim_run_csv(self):
         binary = os.environ.get("VSSIM_BINARY")
         if not binary or not os.path.exists(binary):
