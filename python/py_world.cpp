@@ -1,0 +1,191 @@
+#include "py_world.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "camera/camera_renderer.h"
+#include "io/scene_limits.h"
+#include "realtime/simulation_fault.h"
+#include "vssim/field.h"
+
+namespace vssim::python {
+
+namespace {
+
+std::string number(double x) {
+    std::ostringstream out;
+    out.precision(17);
+    out << x;
+    return out.str();
+}
+
+// The most steps one call may take: beyond 2^53 step indices stop being exact doubles.
+constexpr double kMaxStepsPerCall = 9007199254740992.0;
+
+}  // namespace
+
+World::World(Scene scene, std::uint64_t seed)
+    : scene_(std::move(scene)), seed_(seed), match_(std::make_unique<Match>(scene_, seed)) {}
+
+World::~World() = default;
+
+void World::checkOpen() const {
+    if (!match_) throw std::runtime_error("this World is closed");
+}
+
+void World::checkRobot(int robot) const {
+    if (robot < 0 || robot >= robotCount())
+        throw std::out_of_range("robot " + std::to_string(robot) + " does not exist: the scene has " +
+                                std::to_string(robotCount()) + " robots" +
+                                (robotCount() > 0 ? " (0-" + std::to_string(robotCount() - 1) + ")" : std::string()));
+}
+
+void World::checkFinite(int robot, double right, double left, const char* what, const char* unit) const {
+    for (const auto& [side, value] : {std::pair<const char*, double>{"right", right}, {"left", left}})
+        if (!std::isfinite(value))
+            throw std::invalid_argument("robot " + std::to_string(robot) + " (" + scene_.robots[robot].name +
+                                        "): the " + side + " " + what + " is " + number(value) + "; " + what +
+                                        "s must be finite numbers, " + unit);
+}
+
+void World::setVoltages(const std::vector<Voltages>& e) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    if (static_cast<int>(e.size()) != robotCount())
+        throw std::invalid_argument("expected voltages for " + std::to_string(robotCount()) + " robots, got " +
+                                    std::to_string(e.size()));
+    for (int i = 0; i < robotCount(); ++i) checkFinite(i, e[i].right, e[i].left, "voltage", "V");
+    for (int i = 0; i < robotCount(); ++i) match_->setVoltages(i, e[i]);
+}
+
+void World::setVoltages(int robot, const Voltages& e) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    checkRobot(robot);
+    checkFinite(robot, e.right, e.left, "voltage", "V");
+    match_->setVoltages(robot, e);
+}
+
+void World::setWheelSpeeds(const std::vector<WheelSpeeds>& w) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    if (static_cast<int>(w.size()) != robotCount())
+        throw std::invalid_argument("expected wheel speeds for " + std::to_string(robotCount()) + " robots, got " +
+                                    std::to_string(w.size()));
+    for (int i = 0; i < robotCount(); ++i) checkFinite(i, w[i].right, w[i].left, "wheel speed", "rad/s");
+    for (int i = 0; i < robotCount(); ++i) match_->setWheelSpeeds(i, w[i]);
+}
+
+void World::setWheelSpeeds(int robot, const WheelSpeeds& w) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    checkRobot(robot);
+    checkFinite(robot, w.right, w.left, "wheel speed", "rad/s");
+    match_->setWheelSpeeds(robot, w);
+}
+
+double World::step(double seconds) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    if (!std::isfinite(seconds) || seconds <= 0.0)
+        throw std::invalid_argument("seconds must be a positive finite number, got " + number(seconds));
+    if (seconds / dt() > kMaxStepsPerCall)
+        throw std::invalid_argument("seconds = " + number(seconds) + " is too many steps of dt = " + number(dt()) +
+                                    " s for one call");
+    if (!fault_.empty()) throw std::runtime_error(fault_ + " (reset() starts again)");
+    const std::int64_t steps = std::max<std::int64_t>(1, Simulation::stepIndexAtOrAfter(seconds, dt()));
+    match_->advanceTo(match_->simulation().state().step + steps);
+    if (const auto fault = findSimulationFault(match_->simulation())) {
+        fault_ = "the simulation stopped: " + fault->message().toStdString();
+        throw std::runtime_error(fault_);
+    }
+    return match_->simulation().state().time;
+}
+
+void World::placeRobot(int robot, const RobotState& p) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    checkRobot(robot);
+    for (double value : {p.x, p.y, p.theta, p.v, p.omega})
+        if (!std::isfinite(value))
+            throw std::invalid_argument("robot " + std::to_string(robot) +
+                                        ": x, y, theta, v and omega must be finite numbers");
+    if (std::abs(p.v) > scene_limits::kMaxRobotSpeed || std::abs(p.omega) > scene_limits::kMaxYawRate)
+        throw std::invalid_argument("robot " + std::to_string(robot) + ": |v| must be at most " +
+                                    number(scene_limits::kMaxRobotSpeed) + " m/s and |omega| at most " +
+                                    number(scene_limits::kMaxYawRate) + " rad/s");
+    const Field& field = scene_.field;
+    if (!robotInsideField(field, scene_.robots[robot].params.side, p.x, p.y, p.theta))
+        throw std::invalid_argument("robot " + std::to_string(robot) + " at (" + number(p.x) + ", " + number(p.y) +
+                                    ") m, heading " + number(p.theta) + " rad, would not lie inside the " +
+                                    number(field.length) + " x " + number(field.width) + " m field");
+    match_->placeRobot(robot, p);
+}
+
+void World::placeBall(const BallState& b) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    for (double value : {b.x, b.y, b.vx, b.vy})
+        if (!std::isfinite(value)) throw std::invalid_argument("the ball: x, y, vx and vy must be finite numbers");
+    if (std::hypot(b.vx, b.vy) > scene_limits::kMaxBallSpeed)
+        throw std::invalid_argument("the ball's speed must be at most " + number(scene_limits::kMaxBallSpeed) +
+                                    " m/s");
+    const Field& field = scene_.field;
+    if (!discInsideField(field, scene_.ball_params.radius, b.x, b.y))
+        throw std::invalid_argument("the ball at (" + number(b.x) + ", " + number(b.y) +
+                                    ") m would not lie inside the " + number(field.length) + " x " +
+                                    number(field.width) + " m field");
+    match_->placeBall(b);
+}
+
+void World::reset() {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    match_ = std::make_unique<Match>(scene_, seed_);
+    fault_.clear();
+}
+
+void World::close() {
+    std::lock_guard lock(mutex_);
+    match_.reset();
+    camera_.reset();
+}
+
+bool World::closed() const {
+    std::lock_guard lock(mutex_);
+    return !match_;
+}
+
+WorldSnapshot World::snapshot() const {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    const Simulation& sim = match_->simulation();
+    const WorldState& s = sim.state();
+    WorldSnapshot out;
+    out.step = s.step;
+    out.time = s.time;
+    out.robots = s.robots;
+    out.voltages = s.voltages;
+    out.onField.resize(s.robots.size());
+    for (int i = 0; i < robotCount(); ++i) {
+        out.outputs.push_back(sim.robotOutputs(i));
+        out.onField[i] = !s.offField[i];
+    }
+    out.ball = s.ball;
+    out.game = match_->game();
+    return out;
+}
+
+cv::Mat World::cameraImage() const {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    if (!camera_) camera_ = std::make_unique<CameraRenderer>(scene_);
+    cv::Mat frame;
+    std::vector<cv::Rect> patches;
+    camera_->render(match_->simulation().state(), frame, patches);
+    return frame;
+}
+
+}  // namespace vssim::python

@@ -1,0 +1,10 @@
+"""vssim in-process: the simulator of IEEE Very Small Size Soccer robots.
+
+World(scene) runs one scene (a file, a built-in name such as "kickoff_3v3",
+or a dict in the scene-file format) with its referee and built-in teams,
+stepped from Python with the GIL released. See docs/python.md.
+"""
+
+from ._vssim import World, builtin_scenes, __version__
+
+__all__ = ["World", "builtin_scenes", "__version__"]
