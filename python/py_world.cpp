@@ -51,39 +51,44 @@ void World::checkFinite(int robot, double right, double left, const char* what, 
 }
 
 void World::setVoltages(const std::vector<Voltages>& e) {
-    std::lock_guard lock(mutex_);
-    checkOpen();
-    if (static_cast<int>(e.size()) != robotCount())
-        throw std::invalid_argument("expected voltages for " + std::to_string(robotCount()) + " robots, got " +
-                                    std::to_string(e.size()));
-    for (int i = 0; i < robotCount(); ++i) checkFinite(i, e[i].right, e[i].left, "voltage", "V");
-    for (int i = 0; i < robotCount(); ++i) match_->setVoltages(i, e[i]);
+    std::vector<DriveCommand> drives;
+    for (const Voltages& v : e) drives.push_back(DriveCommand::ofVoltages(v));
+    driveAll(drives, "voltages");
 }
 
-void World::setVoltages(int robot, const Voltages& e) {
-    std::lock_guard lock(mutex_);
-    checkOpen();
-    checkRobot(robot);
-    checkFinite(robot, e.right, e.left, "voltage", "V");
-    match_->setVoltages(robot, e);
-}
+void World::setVoltages(int robot, const Voltages& e) { drive(robot, DriveCommand::ofVoltages(e)); }
 
 void World::setWheelSpeeds(const std::vector<WheelSpeeds>& w) {
-    std::lock_guard lock(mutex_);
-    checkOpen();
-    if (static_cast<int>(w.size()) != robotCount())
-        throw std::invalid_argument("expected wheel speeds for " + std::to_string(robotCount()) + " robots, got " +
-                                    std::to_string(w.size()));
-    for (int i = 0; i < robotCount(); ++i) checkFinite(i, w[i].right, w[i].left, "wheel speed", "rad/s");
-    for (int i = 0; i < robotCount(); ++i) match_->setWheelSpeeds(i, w[i]);
+    std::vector<DriveCommand> drives;
+    for (const WheelSpeeds& s : w) drives.push_back(DriveCommand::ofWheelSpeeds(s));
+    driveAll(drives, "wheel speeds");
 }
 
-void World::setWheelSpeeds(int robot, const WheelSpeeds& w) {
+void World::setWheelSpeeds(int robot, const WheelSpeeds& w) { drive(robot, DriveCommand::ofWheelSpeeds(w)); }
+
+void World::checkDrive(int robot, const DriveCommand& d) const {
+    if (d.wheelSpeeds)
+        checkFinite(robot, d.speeds.right, d.speeds.left, "wheel speed", "rad/s");
+    else
+        checkFinite(robot, d.voltages.right, d.voltages.left, "voltage", "V");
+}
+
+void World::driveAll(const std::vector<DriveCommand>& drives, const char* what) {
+    std::lock_guard lock(mutex_);
+    checkOpen();
+    if (static_cast<int>(drives.size()) != robotCount())
+        throw std::invalid_argument(std::string("expected ") + what + " for " + std::to_string(robotCount()) +
+                                    " robots, got " + std::to_string(drives.size()));
+    for (int i = 0; i < robotCount(); ++i) checkDrive(i, drives[i]);  // all checked before any applies
+    for (int i = 0; i < robotCount(); ++i) match_->drive(i, drives[i]);
+}
+
+void World::drive(int robot, const DriveCommand& command) {
     std::lock_guard lock(mutex_);
     checkOpen();
     checkRobot(robot);
-    checkFinite(robot, w.right, w.left, "wheel speed", "rad/s");
-    match_->setWheelSpeeds(robot, w);
+    checkDrive(robot, command);
+    match_->drive(robot, command);
 }
 
 double World::step(double seconds) {

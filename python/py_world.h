@@ -90,6 +90,10 @@ private:
     void checkOpen() const;
     void checkRobot(int robot) const;
     void checkFinite(int robot, double right, double left, const char* what, const char* unit) const;
+    void checkDrive(int robot, const DriveCommand& command) const;
+    // One per robot (`what`: "voltages" or "wheel speeds", for errors), every one checked first.
+    void driveAll(const std::vector<DriveCommand>& drives, const char* what);
+    void drive(int robot, const DriveCommand& command);
 };
 
 }  // namespace vssim::python

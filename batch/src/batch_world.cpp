@@ -88,31 +88,22 @@ void BatchWorld::setWheelSpeeds(int world, int robot, const WheelSpeeds& w) {
     m.setWheelSpeeds(robot, w);
 }
 
-void BatchWorld::setVoltagesAll(const double* rightLeft) {
-    const std::size_t n = matches_.size() * scene_.robots.size();
-    checkPointer(rightLeft, n, "setVoltagesAll");
-    for (std::size_t k = 0; k < 2 * n; ++k)
-        checkNumber(rightLeft[k], "setVoltagesAll", static_cast<int>(k / 2 / scene_.robots.size()),
-                    static_cast<int>(k / 2 % scene_.robots.size()));
-    const int r = robots();
-    for (int w = 0; w < size(); ++w)
-        for (int i = 0; i < r; ++i) {
-            const double* p = rightLeft + 2 * (static_cast<std::size_t>(w) * r + i);
-            matches_[w]->setVoltages(i, Voltages{p[0], p[1]});
-        }
-}
+void BatchWorld::setVoltagesAll(const double* rightLeft) { setAll(rightLeft, false, "setVoltagesAll"); }
 
-void BatchWorld::setWheelSpeedsAll(const double* rightLeft) {
+void BatchWorld::setWheelSpeedsAll(const double* rightLeft) { setAll(rightLeft, true, "setWheelSpeedsAll"); }
+
+void BatchWorld::setAll(const double* rightLeft, bool wheelSpeeds, const char* what) {
     const std::size_t n = matches_.size() * scene_.robots.size();
-    checkPointer(rightLeft, n, "setWheelSpeedsAll");
+    checkPointer(rightLeft, n, what);
     for (std::size_t k = 0; k < 2 * n; ++k)
-        checkNumber(rightLeft[k], "setWheelSpeedsAll", static_cast<int>(k / 2 / scene_.robots.size()),
+        checkNumber(rightLeft[k], what, static_cast<int>(k / 2 / scene_.robots.size()),
                     static_cast<int>(k / 2 % scene_.robots.size()));
     const int r = robots();
     for (int w = 0; w < size(); ++w)
         for (int i = 0; i < r; ++i) {
             const double* p = rightLeft + 2 * (static_cast<std::size_t>(w) * r + i);
-            matches_[w]->setWheelSpeeds(i, WheelSpeeds{p[0], p[1]});
+            matches_[w]->drive(i, wheelSpeeds ? DriveCommand::ofWheelSpeeds({p[0], p[1]})
+                                              : DriveCommand::ofVoltages({p[0], p[1]}));
         }
 }
 

@@ -85,6 +85,8 @@ public:
     void copySteps(std::int64_t* out) const;
 
 private:
+    // Both of the above: rightLeft as voltages or as wheel speeds; `what` names the call in errors.
+    void setAll(const double* rightLeft, bool wheelSpeeds, const char* what);
     Scene scene_;
     std::uint64_t seed_;
     std::vector<std::unique_ptr<Match>> matches_;
