@@ -10,6 +10,7 @@
 
 #include "io/scene_io.h"
 #include "py_world.h"
+#include "scene_binding.h"
 #include "scene_source.h"
 #include "vssim/game/game_state.h"
 
@@ -22,20 +23,7 @@ namespace {
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 std::unique_ptr<World> makeWorld(const py::object& scene, std::uint64_t seed) {
-    std::string error;
-    std::optional<Scene> loaded;
-    if (py::isinstance<py::dict>(scene)) {
-        const std::string json = py::module_::import("json").attr("dumps")(scene, py::arg("allow_nan") = false).cast<std::string>();
-        loaded = sceneFromJson(json, &error);
-    } else if (py::isinstance<py::str>(scene) || py::hasattr(scene, "__fspath__")) {
-        const std::string path = py::module_::import("os").attr("fsdecode")(scene).cast<std::string>();
-        loaded = sceneFromArgument(path, &error);
-    } else {
-        throw py::type_error("scene: expected a path, a built-in scene name or a dict, got " +
-                             py::str(py::type::of(scene)).cast<std::string>());
-    }
-    if (!loaded) throw std::invalid_argument(error);
-    return std::make_unique<World>(std::move(*loaded), seed);
+    return std::make_unique<World>(loadScene(scene), seed);
 }
 
 // Anything numpy turns into float64 with shape (robots, 2): [right, left] per robot.

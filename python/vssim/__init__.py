@@ -2,9 +2,10 @@
 
 World(scene) runs one scene (a file, a built-in name such as "kickoff_3v3",
 or a dict in the scene-file format) with its referee and built-in teams,
-stepped from Python with the GIL released. See docs/python.md.
+stepped from Python with the GIL released; BatchWorld(n, scene) runs n
+copies on a pool of threads. See docs/python.md.
 """
 
-from ._vssim import World, builtin_scenes, __version__
+from ._vssim import BatchWorld, World, builtin_scenes, __version__
 
-__all__ = ["World", "builtin_scenes", "__version__"]
+__all__ = ["BatchWorld", "World", "builtin_scenes", "__version__"]

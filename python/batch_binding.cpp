@@ -1,0 +1,122 @@
+#include "batch_binding.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "scene_binding.h"
+#include "vssim/batch/batch_world.h"
+
+namespace py = pybind11;
+
+namespace vssim::python {
+
+namespace {
+
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// Anything numpy turns into float64 of shape (worlds, robots, 2): [right, left].
+DoubleArray perRobot(const BatchWorld& batch, const py::object& values, const char* what) {
+    DoubleArray a = DoubleArray::ensure(values);
+    if (!a) throw py::type_error(std::string(what) + ": expected an array of numbers of shape (n_worlds, n_robots, 2)");
+    if (a.ndim() != 3 || a.shape(0) != batch.size() || a.shape(1) != batch.robots() || a.shape(2) != 2) {
+        std::string shape = "(";
+        for (py::ssize_t d = 0; d < a.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(a.shape(d));
+        shape += a.ndim() == 1 ? ",)" : ")";
+        throw std::invalid_argument(std::string(what) + ": expected shape (" + std::to_string(batch.size()) + ", " +
+                                    std::to_string(batch.robots()) + ", 2), [right, left] per robot, got " + shape);
+    }
+    return a;
+}
+
+int worldIndex(const BatchWorld& batch, std::int64_t world) {
+    if (world < 0 || world >= batch.size())
+        throw std::out_of_range("world " + std::to_string(world) + " does not exist: the batch has " +
+                                std::to_string(batch.size()) + " worlds");
+    return static_cast<int>(world);
+}
+
+}  // namespace
+
+void bindBatchWorld(py::module_& m) {
+    py::class_<BatchWorld>(m, "BatchWorld", R"(n independent copies of one scene, stepped together in C++ on a pool
+of threads (threads=0: every core), each with its own inputs. World i is
+bit-identical to vssim.World(scene, seed=0 if seed == 0 else seed + i)
+given the same inputs, whatever the thread count.)")
+        .def(py::init([](std::int64_t n, const py::object& scene, int threads, std::uint64_t seed) {
+                 if (n < 1 || n > (1 << 24))
+                     throw std::invalid_argument("n: expected 1 to 16777216 worlds, got " + std::to_string(n));
+                 return std::make_unique<BatchWorld>(loadScene(scene), static_cast<int>(n), threads, seed);
+             }),
+             py::arg("n"), py::arg("scene"), py::arg("threads") = 0, py::arg("seed") = 0)
+        .def_property_readonly("n_worlds", &BatchWorld::size)
+        .def_property_readonly("n_robots", &BatchWorld::robots)
+        .def_property_readonly("threads", &BatchWorld::threads)
+        .def(
+            "set_voltages",
+            [](BatchWorld& b, const py::object& values) {
+                const DoubleArray a = perRobot(b, values, "set_voltages");
+                b.setVoltagesAll(a.data());
+            },
+            py::arg("voltages"), "Every robot's armature voltages, V: shape (n_worlds, n_robots, 2), [right, left].")
+        .def(
+            "set_wheel_speeds",
+            [](BatchWorld& b, const py::object& values) {
+                const DoubleArray a = perRobot(b, values, "set_wheel_speeds");
+                b.setWheelSpeedsAll(a.data());
+            },
+            py::arg("wheel_speeds"),
+            "Every robot's wheel-speed targets, rad/s, through its speed loop: shape (n_worlds, n_robots, 2).")
+        .def(
+            "step",
+            [](BatchWorld& b, double seconds) {
+                py::gil_scoped_release release;
+                return b.step(seconds);
+            },
+            py::arg("seconds"),
+            "Advances every world by seconds (rounded up to whole steps, and game ticks), in parallel, the GIL "
+            "released; returns the steps taken.")
+        .def("reset", [](BatchWorld& b, std::int64_t world) { b.reset(worldIndex(b, world)); }, py::arg("world"))
+        .def("reset_all", [](BatchWorld& b) {
+            py::gil_scoped_release release;
+            b.resetAll();
+        })
+        .def_property_readonly(
+            "robots",
+            [](const BatchWorld& b) {
+                py::array_t<double> a({static_cast<py::ssize_t>(b.size()), static_cast<py::ssize_t>(b.robots()),
+                                       static_cast<py::ssize_t>(5)});
+                b.copyRobots(a.mutable_data());
+                return a;
+            },
+            "(n_worlds, n_robots, 5): x, y (m), theta (rad), v (m/s), omega (rad/s).")
+        .def_property_readonly(
+            "balls",
+            [](const BatchWorld& b) {
+                py::array_t<double> a({static_cast<py::ssize_t>(b.size()), static_cast<py::ssize_t>(4)});
+                b.copyBalls(a.mutable_data());
+                return a;
+            },
+            "(n_worlds, 4): x, y (m), vx, vy (m/s).")
+        .def_property_readonly(
+            "scores",
+            [](const BatchWorld& b) {
+                py::array_t<int> a({static_cast<py::ssize_t>(b.size()), static_cast<py::ssize_t>(2)});
+                b.copyScores(a.mutable_data());
+                return a;
+            },
+            "(n_worlds, 2): goals of yellow, blue.")
+        .def_property_readonly(
+            "times",
+            [](const BatchWorld& b) {
+                py::array_t<double> a(static_cast<py::ssize_t>(b.size()));
+                auto w = a.mutable_unchecked<1>();
+                for (int i = 0; i < b.size(); ++i) w(i) = b.match(i).simulation().state().time;
+                return a;
+            },
+            "(n_worlds,): simulated time of each world, s.");
+}
+
+}  // namespace vssim::python

@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""vssim.BatchWorld from Python (docs/python.md): n worlds stepped together
+on a pool of threads, each bit-identical to a vssim.World run alone with the
+same inputs, whatever the thread count; bad input raises.
+
+Run by ctest with PYTHONPATH=<build>/python; by hand:
+    PYTHONPATH=build/python /usr/bin/python3 tests/python_batch_test.py
+"""
+
+import unittest
+
+import numpy as np
+
+import vssim
+
+SCENE = "kickoff_3v3"  # the referee and the built-in teams: every world ticks
+
+
+def remote_match():
+    """The kick-off with both teams remote and a short opening stop, as a dict."""
+    return {
+        "field": {"type": "vsss_3v3"},
+        "ball": {"x": 0.0, "y": 0.0},
+        "robots": [
+            {"team": "yellow", "x": -0.2, "y": 0.0}, {"team": "yellow", "x": -0.4, "y": 0.3},
+            {"team": "yellow", "x": -0.6, "y": 0.0}, {"team": "blue", "x": 0.2, "y": 0.1},
+            {"team": "blue", "x": 0.4, "y": -0.3}, {"team": "blue", "x": 0.6, "y": 0.0},
+        ],
+        "game": {"referee": True, "yellow": "remote", "blue": "remote", "stop_duration": 0.2},
+    }
+
+
+def inputs(n_worlds, n_robots, k):
+    """Different voltages for every world, robot and control step k, V."""
+    w = np.arange(n_worlds)[:, None, None]
+    r = np.arange(n_robots)[None, :, None]
+    side = np.array([1.0, -0.5])[None, None, :]
+    return 5.0 * np.sin(0.7 * w + 1.3 * r + 0.2 * k) * side + 1.5
+
+
+class TestBatchWorld(unittest.TestCase):
+    def run_batch(self, scene, n, threads, steps=30, seed=0, wheel=False):
+        batch = vssim.BatchWorld(n, scene, threads=threads, seed=seed)
+        for k in range(steps):
+            u = inputs(n, batch.n_robots, k)
+            if wheel:
+                batch.set_wheel_speeds(8.0 * u)
+            else:
+                batch.set_voltages(u)
+            batch.step(0.03)
+        return batch
+
+    def test_each_world_matches_a_lone_world(self):
+        for scene, seed in ((remote_match(), 0), (SCENE, 7)):
+            batch = self.run_batch(scene, 4, threads=2, seed=seed)
+            for i in range(4):
+                world = vssim.World(scene, seed=0 if seed == 0 else seed + i)
+                for k in range(30):
+                    world.set_voltages(inputs(4, world.n_robots, k)[i])
+                    world.step(0.03)
+                self.assertTrue(np.array_equal(batch.robots[i], world.robots), f"world {i}")
+                self.assertTrue(np.array_equal(batch.balls[i], world.ball), f"world {i}")
+                self.assertEqual(tuple(batch.scores[i]), tuple(world.score))
+                self.assertEqual(batch.times[i], world.time)
+
+    def test_thread_count_changes_nothing(self):
+        one = self.run_batch(remote_match(), 5, threads=1, wheel=True)
+        three = self.run_batch(remote_match(), 5, threads=3, wheel=True)
+        self.assertTrue(np.array_equal(one.robots, three.robots))
+        self.assertTrue(np.array_equal(one.balls, three.balls))
+        # The worlds differ from each other (their inputs do).
+        self.assertFalse(np.array_equal(one.robots[0], one.robots[1]))
+
+    def test_shapes_and_reset(self):
+        batch = self.run_batch(remote_match(), 3, threads=0, steps=10)
+        self.assertEqual(batch.robots.shape, (3, 6, 5))
+        self.assertEqual(batch.balls.shape, (3, 4))
+        self.assertEqual(batch.scores.shape, (3, 2))
+        fresh = vssim.World(remote_match())
+        batch.reset(1)
+        self.assertTrue(np.array_equal(batch.robots[1], fresh.robots))
+        self.assertEqual(batch.times[1], 0.0)
+        self.assertGreater(batch.times[0], 0.0)
+        batch.reset_all()
+        self.assertTrue(np.all(batch.times == 0.0))
+
+    def test_bad_input(self):
+        batch = vssim.BatchWorld(2, remote_match(), threads=1)
+        with self.assertRaisesRegex(ValueError, r"expected shape \(2, 6, 2\)"):
+            batch.set_voltages(np.zeros((2, 6)))
+        with self.assertRaises(TypeError):
+            batch.set_voltages("volts")
+        bad = np.zeros((2, 6, 2))
+        bad[1, 3, 0] = np.nan
+        with self.assertRaisesRegex(ValueError, "NaN|not a number|finite"):
+            batch.set_voltages(bad)
+        for seconds in (0.0, -1.0, float("nan"), float("inf")):
+            with self.assertRaises(ValueError):
+                batch.step(seconds)
+        with self.assertRaises(IndexError):
+            batch.reset(2)
+        with self.assertRaises(ValueError):
+            vssim.BatchWorld(0, remote_match())
+        with self.assertRaises(ValueError):
+            vssim.BatchWorld(2, {"robots": [{"team": "purple"}]})
+        with self.assertRaises(ValueError):
+            vssim.BatchWorld(2, remote_match(), threads=-1)
+        # Still usable after all of that.
+        batch.set_voltages(np.ones((2, 6, 2)))
+        self.assertGreater(batch.step(0.03), 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
