@@ -73,19 +73,20 @@ void BatchWorld::checkRobot(int robot, const char* what) const {
 }
 
 void BatchWorld::setVoltages(int world, int robot, const Voltages& e) {
-    Match& m = at(world, "setVoltages");
-    checkRobot(robot, "setVoltages");
-    checkNumber(e.right, "setVoltages", world, robot);
-    checkNumber(e.left, "setVoltages", world, robot);
-    m.setVoltages(robot, e);
+    setOne(world, robot, DriveCommand::ofVoltages(e), e.right, e.left, "setVoltages");
 }
 
 void BatchWorld::setWheelSpeeds(int world, int robot, const WheelSpeeds& w) {
-    Match& m = at(world, "setWheelSpeeds");
-    checkRobot(robot, "setWheelSpeeds");
-    checkNumber(w.right, "setWheelSpeeds", world, robot);
-    checkNumber(w.left, "setWheelSpeeds", world, robot);
-    m.setWheelSpeeds(robot, w);
+    setOne(world, robot, DriveCommand::ofWheelSpeeds(w), w.right, w.left, "setWheelSpeeds");
+}
+
+void BatchWorld::setOne(int world, int robot, const DriveCommand& command, double right, double left,
+                        const char* what) {
+    Match& m = at(world, what);
+    checkRobot(robot, what);
+    checkNumber(right, what, world, robot);
+    checkNumber(left, what, world, robot);
+    m.drive(robot, command);
 }
 
 void BatchWorld::setVoltagesAll(const double* rightLeft) { setAll(rightLeft, false, "setVoltagesAll"); }

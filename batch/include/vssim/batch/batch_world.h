@@ -85,6 +85,8 @@ public:
     void copySteps(std::int64_t* out) const;
 
 private:
+    // One robot's command (right, left: its two numbers, checked); `what` names the call in errors.
+    void setOne(int world, int robot, const DriveCommand& command, double right, double left, const char* what);
     // Both of the above: rightLeft as voltages or as wheel speeds; `what` names the call in errors.
     void setAll(const double* rightLeft, bool wheelSpeeds, const char* what);
     Scene scene_;
