@@ -24,6 +24,7 @@ void CameraView::showSnapshot(const Snapshot& s) {
     state.voltages = s.voltages;
     state.voltages.resize(s.robots.size());
     state.ball = s.ball;
+    state.offField = s.offField;  // robots off the field are not in the picture, as in the clients' camera
     renderer_->render(state, frame_, patches_);
 
     cv::Mat rgb;
