@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "io/scene_io.h"
+#include "placement_check.h"
 #include "scene_binding.h"
 #include "vssim/batch/batch_world.h"
 
@@ -54,6 +56,8 @@ given the same inputs, whatever the thread count.)")
         .def_property_readonly("n_worlds", &BatchWorld::size)
         .def_property_readonly("n_robots", &BatchWorld::robots)
         .def_property_readonly("threads", &BatchWorld::threads)
+        .def("scene_json", [](const BatchWorld& b) { return sceneToJson(b.scene()).toStdString(); },
+             "The complete scene every world plays, as scene-file JSON, every parameter spelled out.")
         .def(
             "set_voltages",
             [](BatchWorld& b, const py::object& values) {
@@ -78,6 +82,33 @@ given the same inputs, whatever the thread count.)")
             py::arg("seconds"),
             "Advances every world by seconds (rounded up to whole steps, and game ticks), in parallel, the GIL "
             "released; returns the steps taken.")
+        .def(
+            "place_robot",
+            [](BatchWorld& b, std::int64_t world, std::int64_t robot, double x, double y, double theta, double v,
+               double omega) {
+                const int w = worldIndex(b, world);
+                if (robot < 0 || robot >= b.robots())
+                    throw std::out_of_range("robot " + std::to_string(robot) + " does not exist: the scene has " +
+                                            std::to_string(b.robots()) + " robots");
+                const RobotState pose{x, y, theta, v, omega};
+                checkRobotPlacement(b.scene(), static_cast<int>(robot), pose,
+                                    "world " + std::to_string(w) + ", robot " + std::to_string(robot));
+                b.placeRobot(w, static_cast<int>(robot), pose);
+            },
+            py::arg("world"), py::arg("robot"), py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("v") = 0.0,
+            py::arg("omega") = 0.0,
+            "Moves robot `robot` of world `world` at once: x, y (m), theta (rad), v (m/s), omega (rad/s); wholly "
+            "inside the field, or ValueError.")
+        .def(
+            "place_ball",
+            [](BatchWorld& b, std::int64_t world, double x, double y, double vx, double vy) {
+                const int w = worldIndex(b, world);
+                const BallState ball{x, y, vx, vy};
+                checkBallPlacement(b.scene(), ball, "world " + std::to_string(w) + ", the ball");
+                b.placeBall(w, ball);
+            },
+            py::arg("world"), py::arg("x"), py::arg("y"), py::arg("vx") = 0.0, py::arg("vy") = 0.0,
+            "Moves the ball of world `world` at once: x, y (m), vx, vy (m/s); inside the field, or ValueError.")
         .def("reset", [](BatchWorld& b, std::int64_t world) { b.reset(worldIndex(b, world)); }, py::arg("world"))
         .def("reset_all", [](BatchWorld& b) {
             py::gil_scoped_release release;
@@ -92,6 +123,15 @@ given the same inputs, whatever the thread count.)")
                 return a;
             },
             "(n_worlds, n_robots, 5): x, y (m), theta (rad), v (m/s), omega (rad/s).")
+        .def_property_readonly(
+            "wheel_speeds",
+            [](const BatchWorld& b) {
+                py::array_t<double> a({static_cast<py::ssize_t>(b.size()), static_cast<py::ssize_t>(b.robots()),
+                                       static_cast<py::ssize_t>(2)});
+                b.copyWheelSpeeds(a.mutable_data());
+                return a;
+            },
+            "(n_worlds, n_robots, 2): wheel speeds, right, left (rad/s).")
         .def_property_readonly(
             "balls",
             [](const BatchWorld& b) {

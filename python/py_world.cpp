@@ -6,9 +6,8 @@
 #include <stdexcept>
 
 #include "camera/camera_renderer.h"
-#include "io/scene_limits.h"
+#include "placement_check.h"
 #include "realtime/simulation_fault.h"
-#include "vssim/field.h"
 
 namespace vssim::python {
 
@@ -113,35 +112,14 @@ void World::placeRobot(int robot, const RobotState& p) {
     std::lock_guard lock(mutex_);
     checkOpen();
     checkRobot(robot);
-    for (double value : {p.x, p.y, p.theta, p.v, p.omega})
-        if (!std::isfinite(value))
-            throw std::invalid_argument("robot " + std::to_string(robot) +
-                                        ": x, y, theta, v and omega must be finite numbers");
-    if (std::abs(p.v) > scene_limits::kMaxRobotSpeed || std::abs(p.omega) > scene_limits::kMaxYawRate)
-        throw std::invalid_argument("robot " + std::to_string(robot) + ": |v| must be at most " +
-                                    number(scene_limits::kMaxRobotSpeed) + " m/s and |omega| at most " +
-                                    number(scene_limits::kMaxYawRate) + " rad/s");
-    const Field& field = scene_.field;
-    if (!robotInsideField(field, scene_.robots[robot].params.side, p.x, p.y, p.theta))
-        throw std::invalid_argument("robot " + std::to_string(robot) + " at (" + number(p.x) + ", " + number(p.y) +
-                                    ") m, heading " + number(p.theta) + " rad, would not lie inside the " +
-                                    number(field.length) + " x " + number(field.width) + " m field");
+    checkRobotPlacement(scene_, robot, p, "robot " + std::to_string(robot));
     match_->placeRobot(robot, p);
 }
 
 void World::placeBall(const BallState& b) {
     std::lock_guard lock(mutex_);
     checkOpen();
-    for (double value : {b.x, b.y, b.vx, b.vy})
-        if (!std::isfinite(value)) throw std::invalid_argument("the ball: x, y, vx and vy must be finite numbers");
-    if (std::hypot(b.vx, b.vy) > scene_limits::kMaxBallSpeed)
-        throw std::invalid_argument("the ball's speed must be at most " + number(scene_limits::kMaxBallSpeed) +
-                                    " m/s");
-    const Field& field = scene_.field;
-    if (!discInsideField(field, scene_.ball_params.radius, b.x, b.y))
-        throw std::invalid_argument("the ball at (" + number(b.x) + ", " + number(b.y) +
-                                    ") m would not lie inside the " + number(field.length) + " x " +
-                                    number(field.width) + " m field");
+    checkBallPlacement(scene_, b, "the ball");
     match_->placeBall(b);
 }
 

@@ -84,6 +84,53 @@ class TestBatchWorld(unittest.TestCase):
         batch.reset_all()
         self.assertTrue(np.all(batch.times == 0.0))
 
+    def test_placement_and_wheel_speeds_match_a_lone_world(self):
+        # The same placements and wheel-speed targets given to world 1 of a
+        # batch and to a lone World give the same states, bit for bit.
+        batch = vssim.BatchWorld(3, remote_match(), threads=2)
+        world = vssim.World(remote_match())
+        batch.place_robot(1, 2, 0.1, -0.2, 1.0, v=0.3, omega=-2.0)
+        world.place_robot(2, 0.1, -0.2, 1.0, v=0.3, omega=-2.0)
+        batch.place_ball(1, -0.3, 0.25, vx=1.5, vy=-0.5)
+        world.place_ball(-0.3, 0.25, vx=1.5, vy=-0.5)
+        targets = np.zeros((3, 6, 2))
+        targets[1] = np.linspace(-30.0, 40.0, 12).reshape(6, 2)
+        batch.set_wheel_speeds(targets)
+        world.set_wheel_speeds(targets[1])
+        self.assertTrue(np.array_equal(batch.robots[1], world.robots))
+        for _ in range(20):
+            batch.step(0.03)
+            world.step(0.03)
+        self.assertTrue(np.array_equal(batch.robots[1], world.robots))
+        self.assertTrue(np.array_equal(batch.balls[1], world.ball))
+        self.assertTrue(np.array_equal(batch.wheel_speeds[1], world.wheel_speeds))
+        self.assertEqual(batch.wheel_speeds.shape, (3, 6, 2))
+        # The other worlds were not moved.
+        self.assertTrue(np.array_equal(batch.robots[0], batch.robots[2]))
+        # The scene every world plays, spelled out.
+        self.assertEqual(batch.scene_json(), world.scene_json())
+
+    def test_bad_placements(self):
+        batch = vssim.BatchWorld(2, remote_match(), threads=1)
+        before = batch.robots
+        with self.assertRaisesRegex(ValueError, r"world 1, robot 0 at \(0\.9, 0\) m.*would not lie inside"):
+            batch.place_robot(1, 0, 0.9, 0.0, 0.0)
+        with self.assertRaisesRegex(ValueError, "world 0, robot 3: x, y, theta, v and omega must be finite"):
+            batch.place_robot(0, 3, float("nan"), 0.0, 0.0)
+        with self.assertRaisesRegex(ValueError, r"\|v\| must be at most"):
+            batch.place_robot(0, 3, 0.0, 0.0, 0.0, v=50.0)
+        with self.assertRaises(IndexError):
+            batch.place_robot(2, 0, 0.0, 0.0, 0.0)
+        with self.assertRaises(IndexError):
+            batch.place_robot(0, 6, 0.0, 0.0, 0.0)
+        with self.assertRaisesRegex(ValueError, "world 1, the ball at .* would not lie inside"):
+            batch.place_ball(1, 0.0, 0.7)
+        with self.assertRaisesRegex(ValueError, "world 1, the ball: its speed must be at most"):
+            batch.place_ball(1, 0.0, 0.0, vx=100.0)
+        with self.assertRaisesRegex(ValueError, "finite"):
+            batch.place_ball(0, 0.0, float("inf"))
+        self.assertTrue(np.array_equal(batch.robots, before))
+
     def test_bad_input(self):
         batch = vssim.BatchWorld(2, remote_match(), threads=1)
         with self.assertRaisesRegex(ValueError, r"expected shape \(2, 6, 2\)"):

@@ -135,6 +135,7 @@ private slots:
     void seedsPerWorld();
     void resetStartsAWorldAfresh();
     void copiesLayOutTheState();
+    void placementsMoveOneWorld();
     void badArgumentsThrow();
 };
 
@@ -338,6 +339,47 @@ void TestBatchWorld::copiesLayOutTheState() {
         QCOMPARE(s[2 * w + 1], batch.match(w).game().goals[1]);
         QVERIFY(batch.finite(w));
     }
+}
+
+void TestBatchWorld::placementsMoveOneWorld() {
+    // A placement in world 1 gives world 1 the state a lone Match placed the
+    // same way has, step for step; the other worlds stay as they were.
+    const Scene scene = plainScene();
+    BatchWorld batch(scene, 3, 2);
+    Match lone(scene, 0);
+    const RobotState pose{0.1, -0.2, 1.0, 0.3, -2.0};
+    const BallState ball{-0.3, 0.25, 1.5, -0.5};
+    batch.placeRobot(1, 0, pose);
+    batch.placeBall(1, ball);
+    lone.placeRobot(0, pose);
+    lone.placeBall(ball);
+    batch.setWheelSpeeds(1, 0, {20.0, -10.0});
+    lone.setWheelSpeeds(0, {20.0, -10.0});
+    const std::int64_t steps = batch.step(0.3);
+    lone.advanceTo(steps);
+    QCOMPARE(outcomeOf(batch.match(1)), outcomeOf(lone));
+    QCOMPARE(outcomeOf(batch.match(0)), outcomeOf(batch.match(2)));
+    QVERIFY(!(outcomeOf(batch.match(0)) == outcomeOf(batch.match(1))));
+
+    // Wheel speeds, world-major: what each robot's outputs say.
+    const int robots = batch.robots();
+    std::vector<double> wheels(static_cast<std::size_t>(3 * robots * 2));
+    batch.copyWheelSpeeds(wheels.data());
+    for (int w = 0; w < 3; ++w)
+        for (int i = 0; i < robots; ++i) {
+            const RobotOutputs o = batch.match(w).simulation().robotOutputs(i);
+            QCOMPARE(wheels[2 * (w * robots + i)], o.wheel_speed_right);
+            QCOMPARE(wheels[2 * (w * robots + i) + 1], o.wheel_speed_left);
+        }
+    QVERIFY(std::abs(wheels[2 * robots] - 20.0) < 0.5);  // world 1, robot 0: its speed loop's target
+
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    expectThrow<std::out_of_range>([&] { batch.placeRobot(3, 0, pose); }, "placeRobot: world 3");
+    expectThrow<std::out_of_range>([&] { batch.placeRobot(0, robots, pose); }, "placeRobot: robot");
+    expectThrow<std::invalid_argument>([&] { batch.placeRobot(2, 0, {nan, 0, 0, 0, 0}); }, "world 2, robot 0");
+    expectThrow<std::invalid_argument>([&] { batch.placeBall(0, {0, 0, 0, nan}); }, "placeBall: world 0");
+    expectThrow<std::out_of_range>([&] { batch.placeBall(-1, ball); }, "placeBall: world -1");
+    expectThrow<std::invalid_argument>([&] { batch.copyWheelSpeeds(nullptr); }, "null pointer");
 }
 
 void TestBatchWorld::badArgumentsThrow() {

@@ -134,6 +134,25 @@ std::int64_t BatchWorld::step(double seconds) {
     return steps;
 }
 
+void BatchWorld::placeRobot(int world, int robot, const RobotState& pose) {
+    Match& m = at(world, "placeRobot");
+    checkRobot(robot, "placeRobot");
+    for (double value : {pose.x, pose.y, pose.theta, pose.v, pose.omega})
+        if (!std::isfinite(value))
+            throw std::invalid_argument("BatchWorld::placeRobot: world " + std::to_string(world) + ", robot " +
+                                        std::to_string(robot) + ": x, y, theta, v and omega must be finite");
+    m.placeRobot(robot, pose);
+}
+
+void BatchWorld::placeBall(int world, const BallState& ball) {
+    Match& m = at(world, "placeBall");
+    for (double value : {ball.x, ball.y, ball.vx, ball.vy})
+        if (!std::isfinite(value))
+            throw std::invalid_argument("BatchWorld::placeBall: world " + std::to_string(world) +
+                                        ": x, y, vx and vy must be finite");
+    m.placeBall(ball);
+}
+
 void BatchWorld::reset(int world) {
     at(world, "reset");
     matches_[static_cast<std::size_t>(world)] = std::make_unique<Match>(scene_, seedOf(world));
@@ -158,6 +177,17 @@ void BatchWorld::copyRobots(double* out) const {
         for (const RobotState& s : m->simulation().state().robots) {
             out[0] = s.x, out[1] = s.y, out[2] = s.theta, out[3] = s.v, out[4] = s.omega;
             out += 5;
+        }
+}
+
+void BatchWorld::copyWheelSpeeds(double* out) const {
+    const int r = robots();
+    checkPointer(out, matches_.size() * static_cast<std::size_t>(r), "copyWheelSpeeds");
+    for (const auto& m : matches_)
+        for (int i = 0; i < r; ++i) {
+            const RobotOutputs o = m->simulation().robotOutputs(i);
+            out[0] = o.wheel_speed_right, out[1] = o.wheel_speed_left;
+            out += 2;
         }
 }
 

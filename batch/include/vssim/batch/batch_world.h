@@ -62,6 +62,15 @@ public:
     // non-finite stops where Match::advanceTo stops it (see finite()).
     std::int64_t step(double seconds);
 
+    // Moves a body of world `world` at once, as Match::placeRobot /
+    // placeBall (a client's placement; an overlap is resolved by the next
+    // step's contacts). Whether it lies inside the field is the caller's
+    // check (the Python binding makes it). Throws std::out_of_range for a
+    // world or robot out of range, std::invalid_argument for a value that is
+    // not finite.
+    void placeRobot(int world, int robot, const RobotState& pose);
+    void placeBall(int world, const BallState& ball);
+
     // World `world` afresh: a new Match of the scene with its seed (its
     // inputs forgotten, the clock at 0). Throws std::out_of_range.
     void reset(int world);
@@ -77,6 +86,8 @@ public:
     // for a null pointer unless the array would be empty):
     // worlds * robots * 5: x, y (m), theta (rad), v (m/s), omega (rad/s);
     void copyRobots(double* out) const;
+    // worlds * robots * 2: wheel speeds, right, left (rad/s);
+    void copyWheelSpeeds(double* out) const;
     // worlds * 4: ball x, y (m), vx, vy (m/s);
     void copyBalls(double* out) const;
     // worlds * 2: goals of yellow, blue;
