@@ -52,7 +52,9 @@ step "Depends: $depends"
 for lib in libqt6core6 libqt6gui6 libqt6widgets6 libqt6network6 libopencv-core libopencv-imgproc libopencv-imgcodecs libsdl2 libprotobuf libc6; do
     echo "$depends" | grep -q "$lib" || fail "control: Depends lacks $lib: $depends"
 done
+grep -q '^ Recommends: .*python3-numpy' "$tmp/info" || fail "control: Recommends lacks python3-numpy (the Python module)"
 grep -q '^ Suggests: .*python3-opencv' "$tmp/info" || fail "control: Suggests lacks python3-opencv"
+grep -q '^ Suggests: .*python3-distributed' "$tmp/info" || fail "control: Suggests lacks python3-distributed (vssim.distributed)"
 grep -q '^ Suggests: .*python3-protobuf' "$tmp/info" || fail "control: Suggests lacks python3-protobuf (the FIRASim example)"
 
 # 3. Unpack into a temporary root and check the files.
@@ -79,6 +81,11 @@ for f in \
     usr/share/vssim/docs/protocol.md \
     usr/share/doc/vssim/README.md \
     usr/share/doc/vssim/copyright \
+    usr/lib/python3/dist-packages/vssim/__init__.py \
+    usr/lib/python3/dist-packages/vssim/env/__init__.py \
+    usr/lib/python3/dist-packages/vssim/env/vector.py \
+    usr/share/vssim/examples/python/train_go_to_ball.py \
+    usr/share/doc/vssim/docs/python.md \
     usr/share/man/man1/vssim.1.gz \
     usr/share/man/man1/vssim-gui.1.gz \
     usr/share/man/man1/vssim-run.1.gz \
@@ -160,5 +167,25 @@ x0=$(grep ',ball,' "$csv" | head -n 1 | cut -d, -f3)
 x1=$(grep ',ball,' "$csv" | tail -n 1 | cut -d, -f3)
 awk -v a="$x0" -v b="$x1" 'BEGIN { exit !(b > a + 0.1) }' || fail "vssim run: the robot did not push the ball (ball x $x0 -> $x1)"
 step "installed vssim run: OK ($(($(wc -l <"$csv") - 1)) rows, $balls for the ball)"
+
+# 5. The installed Python module, for Debian's python3, with nothing from the build tree.
+pymod=$(ls "$root"/usr/lib/python3/dist-packages/vssim/_vssim.cpython-*.so 2>/dev/null | head -n 1)
+[ -n "$pymod" ] || fail "not in the package: /usr/lib/python3/dist-packages/vssim/_vssim.cpython-*.so"
+if readelf -d "$pymod" | grep -qE 'RPATH|RUNPATH'; then fail "$(basename "$pymod") has an RPATH"; fi
+if [ -x /usr/bin/python3 ] && /usr/bin/python3 -c "import numpy" 2>/dev/null; then
+    out=$(cd "$tmp" && env -u LD_LIBRARY_PATH PYTHONPATH="$root/usr/lib/python3/dist-packages" /usr/bin/python3 -c "
+import vssim, vssim.env
+assert vssim.__file__.startswith('$root/'), vssim.__file__
+w = vssim.World('kickoff_3v3')
+w.step(0.5)
+env = vssim.env.VssimVectorEnv('GoToBall', num_envs=2)
+obs, _ = env.reset(seed=0)
+print(vssim.__version__, w.time, obs.shape)
+" 2>&1) || fail "the installed Python module does not work: $out"
+    echo "$out" | grep -q "^$version 0.5 (2, 12)\$" || fail "the installed Python module printed '$out'"
+    step "installed Python module: OK ($(basename "$pymod"))"
+else
+    step "/usr/bin/python3 with numpy not installed: the installed Python module not run"
+fi
 
 echo "package_deb: PASS"
