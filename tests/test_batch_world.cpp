@@ -126,6 +126,7 @@ private slots:
     void poolRunsEveryIndexOnce_data();
     void poolRunsEveryIndexOnce();
     void poolPropagatesTheLowestIndexException();
+    void poolOfOneRunsOnTheCaller();
     void poolNestedLoopRunsSerially();
     void poolRefusesNegativeCount();
     void stepsRoundUpToStepsAndTicks();
@@ -181,6 +182,19 @@ void TestBatchWorld::poolPropagatesTheLowestIndexException() {
         pool.parallelFor(10, [&](std::size_t i) { sum += static_cast<int>(i); });
         QCOMPARE(sum.load(), 45);
     }
+}
+
+void TestBatchWorld::poolOfOneRunsOnTheCaller() {
+    // One thread, or one index: the loop runs on the calling thread (no hand-over).
+    const std::thread::id caller = std::this_thread::get_id();
+    ThreadPool one(1);
+    std::vector<std::thread::id> ran(50);
+    one.parallelFor(ran.size(), [&](std::size_t i) { ran[i] = std::this_thread::get_id(); });
+    for (const std::thread::id& id : ran) QVERIFY(id == caller);
+    ThreadPool three(3);
+    std::thread::id single;
+    three.parallelFor(1, [&](std::size_t) { single = std::this_thread::get_id(); });
+    QVERIFY(single == caller);
 }
 
 void TestBatchWorld::poolNestedLoopRunsSerially() {

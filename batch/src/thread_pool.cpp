@@ -15,10 +15,10 @@ ThreadPool::ThreadPool(int threads) {
     if (threads < 0)
         throw std::invalid_argument("ThreadPool: the thread count must be 0 (all cores) or more, not " +
                                     std::to_string(threads));
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    workers_.reserve(static_cast<std::size_t>(threads));
+    if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    workers_.reserve(static_cast<std::size_t>(threads - 1));
     try {
-        for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { workerLoop(); });
+        for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { workerLoop(); });
     } catch (...) {
         {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -39,20 +39,25 @@ ThreadPool::~ThreadPool() {
     for (std::thread& t : workers_) t.join();
 }
 
+void ThreadPool::runSerially(std::size_t n, const std::function<void(std::size_t)>& fn) {
+    std::exception_ptr first;
+    for (std::size_t i = 0; i < n; ++i) {
+        try {
+            fn(i);
+        } catch (...) {
+            if (!first) first = std::current_exception();
+        }
+    }
+    if (first) std::rethrow_exception(first);
+}
+
 void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
     if (n == 0) return;
-    if (tCurrentPool == this) {
-        // Called from one of our own workers: the others may all be waiting
-        // for this one, so the loop runs here, with the same error rule.
-        std::exception_ptr first;
-        for (std::size_t i = 0; i < n; ++i) {
-            try {
-                fn(i);
-            } catch (...) {
-                if (!first) first = std::current_exception();
-            }
-        }
-        if (first) std::rethrow_exception(first);
+    // No workers, or one index: nothing to share. Called from one of our own
+    // workers (or from fn on the caller): the others may all be waiting for
+    // this one, so the loop runs here.
+    if (workers_.empty() || n == 1 || tCurrentPool == this) {
+        runSerially(n, fn);
         return;
     }
     std::lock_guard<std::mutex> loop(loopMutex_);
@@ -67,7 +72,14 @@ void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t
     ++generation_;
     lock.unlock();
     wake_.notify_all();
+    // The caller runs indices too, marked as one of the pool's threads (a
+    // nested parallelFor from fn runs serially).
+    const ThreadPool* outer = tCurrentPool;
+    tCurrentPool = this;
+    const std::size_t ran = runIndices();
+    tCurrentPool = outer;
     lock.lock();
+    finished_ += ran;
     // Done when every index has run and no worker is still inside the loop
     // (one that is could otherwise take an index of the next loop).
     done_.wait(lock, [this] { return finished_ == n_ && busy_ == 0; });

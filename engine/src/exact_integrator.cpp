@@ -87,12 +87,24 @@ int exactPanelsFor(const RobotModel& model, const RobotState& state, const Volta
 }
 
 const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model, double h, int panels) {
-    if (robot >= static_cast<int>(tables_.size())) tables_.resize(robot + 1);
-    auto& mine = tables_[robot];
+    if (robot >= static_cast<int>(dynamicsOf_.size())) dynamicsOf_.resize(robot + 1, -1);
+    int& index = dynamicsOf_[robot];
+    // (Checked on every call, four compares, so that a robot whose model were
+    // replaced could never be handed another model's tables.)
+    if (index < 0 || dynamics_[index].A != model.A) {
+        index = -1;
+        for (std::size_t d = 0; d < dynamics_.size() && index < 0; ++d)
+            if (dynamics_[d].A == model.A) index = static_cast<int>(d);
+        if (index < 0) {
+            dynamics_.push_back({model.A, {}});
+            index = static_cast<int>(dynamics_.size()) - 1;
+        }
+    }
+    auto& mine = dynamics_[index].tables;
     const std::pair<double, int> key(h, panels);
     auto found = mine.find(key);
     if (found == mine.end()) {
-        if (mine.size() >= kMaxPerRobot) mine.clear();
+        if (mine.size() >= kMaxPerModel) mine.clear();
         found = mine.emplace(key, makeExactStepTable(model, h, panels)).first;
     }
     return found->second;

@@ -60,16 +60,23 @@ ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels)
 // mode is handled by the table's graded first panels.)
 int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h);
 
-// Tables already built, per robot, keyed by (step length, panels). A cache
-// only: a table depends on nothing but its key and the robot's model, so the
-// results are the same whether a table is reused or rebuilt.
+// Tables already built, keyed by (step length, panels), one set per robot
+// dynamics: a table depends on nothing but its key and the model's velocity
+// matrix A (makeExactStepTable), so robots of bit-identical A (a team of
+// the same robot: every robot of a default scene) share theirs. A cache
+// only: the results are the same whether a table is reused or rebuilt.
 class ExactTableCache {
 public:
     const ExactStepTable& table(int robot, const RobotModel& model, double h, int panels);
 
 private:
-    static constexpr std::size_t kMaxPerRobot = 64;  // a scene of many step lengths must not grow it forever
-    std::vector<std::map<std::pair<double, int>, ExactStepTable>> tables_;
+    static constexpr std::size_t kMaxPerModel = 256;  // a scene of many step lengths must not grow it forever
+    struct Dynamics {
+        Eigen::Matrix2d A;  // the model's velocity matrix, the tables' only input besides the key
+        std::map<std::pair<double, int>, ExactStepTable> tables;
+    };
+    std::vector<int> dynamicsOf_;     // robot -> index into dynamics_, -1 before its first table
+    std::vector<Dynamics> dynamics_;  // distinct A matrices, in order of first use
 };
 
 // Advances one robot by table.h under constant (already clamped) voltages.

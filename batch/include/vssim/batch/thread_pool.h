@@ -1,7 +1,10 @@
-// A small fixed pool of worker threads for data-parallel loops:
-// parallelFor(n, fn) runs fn(0) .. fn(n - 1), each exactly once, spread over
-// the workers, and returns when all are done. Workers sleep on a condition
-// variable between loops (no busy-waiting) and are joined by the destructor.
+// A small fixed pool of threads for data-parallel loops: parallelFor(n, fn)
+// runs fn(0) .. fn(n - 1), each exactly once, spread over the threads, and
+// returns when all are done. The calling thread is one of them: a pool of
+// `threads` starts threads - 1 workers, and a pool of one (or a loop of one
+// index) runs on the caller alone, with no hand-over (a step of one world
+// costs no thread wake-up). Workers sleep on a condition variable between
+// loops (no busy-waiting) and are joined by the destructor.
 #pragma once
 
 #include <atomic>
@@ -18,17 +21,20 @@ namespace vssim {
 
 class ThreadPool {
 public:
-    // `threads` workers; 0 means std::thread::hardware_concurrency() (at
-    // least 1). Throws std::invalid_argument for a negative count.
+    // `threads` threads, the caller's included; 0 means
+    // std::thread::hardware_concurrency() (at least 1). Throws
+    // std::invalid_argument for a negative count.
     explicit ThreadPool(int threads = 0);
     ~ThreadPool();  // wakes the workers and joins them
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;
 
-    int size() const { return static_cast<int>(workers_.size()); }
+    // The threads a loop runs on: the workers and the caller.
+    int size() const { return static_cast<int>(workers_.size()) + 1; }
 
-    // Calls fn(i) for every i in [0, n), each exactly once, on the workers,
-    // in no particular order, and blocks until every call has returned.
+    // Calls fn(i) for every i in [0, n), each exactly once, on the caller and
+    // the workers, in no particular order, and blocks until every call has
+    // returned.
     // When calls throw, every index is still run, and the exception of the
     // lowest index that threw is rethrown here (the same one whatever the
     // thread count). n = 0 returns at once. Calls from several threads are
@@ -38,6 +44,8 @@ public:
 
 private:
     void workerLoop();
+    // The loop on the calling thread alone, with the same error rule.
+    static void runSerially(std::size_t n, const std::function<void(std::size_t)>& fn);
     // Runs indices of the current loop until none are left; returns how many it ran.
     std::size_t runIndices();
 
@@ -54,7 +62,7 @@ private:
     std::size_t n_ = 0;
     std::atomic<std::size_t> next_{0};  // the next index to hand out (taken by workers inside the loop)
     std::size_t finished_ = 0;  // indices run
-    int busy_ = 0;              // workers inside the loop
+    int busy_ = 0;              // workers inside the loop (the caller not counted)
     std::exception_ptr error_;  // the exception of the lowest index that threw
     std::size_t errorIndex_ = 0;
 };
