@@ -336,17 +336,19 @@ def _run_task(spec):
                     stage = f"the policy's {spec['command']} at t = {t:.6g} s"
                     u = np.array(u, dtype=np.float64)
                     if dead.any() and u.shape == (n, batch.n_robots, 2):
-                        u[dead] = 0.0  # a dead world's NaN state may give NaN commands
+                        u[dead] = 0.0  # a failed world's commands do not matter
                     drive(u)
             stage = f"the step at t = {t:.6g} s"
             out["steps"] += batch.step(spec["control_dt"])
-            if not dead.all():
-                for i, body in enumerate(_non_finite(batch)):
-                    if body is not None and not dead[i]:
-                        dead[i] = True
-                        out["world_errors"][i] = (
-                            f"{where}, seed {spec['seeds'][i]}: the state of {body} went non-finite by "
-                            f"t = {t + spec['control_dt']:.6g} s (parameters too stiff for the integrator at this dt?)")
+            for i, body in enumerate(_non_finite(batch)):
+                if body is None:
+                    continue
+                if not dead[i]:
+                    dead[i] = True
+                    out["world_errors"][i] = (
+                        f"{where}, seed {spec['seeds'][i]}: the state of {body} went non-finite by "
+                        f"t = {t + spec['control_dt']:.6g} s (parameters too stiff for the integrator at this dt?)")
+                batch.reset(i)  # its episode is over; a NaN world would only slow the steps down
         if measure is not None:
             stage = "measure"
             m = measure(batch)
