@@ -29,9 +29,10 @@ from collections import OrderedDict
 
 import numpy as np
 
-from . import BatchWorld, World, builtin_scenes
+from . import BatchWorld, World
 
-__all__ = ["Episodes", "EpisodeError", "SweepResult", "clear_cache", "grid", "run_episodes", "sweep", "CACHE_SIZE"]
+__all__ = ["CACHE_SIZE", "EpisodeError", "Episodes", "SweepResult", "apply_variation", "clear_cache", "grid",
+           "run_episodes", "sweep"]
 
 # Idle BatchWorlds kept per process (each Dask worker holds its own).
 CACHE_SIZE = 4
@@ -373,7 +374,11 @@ def _run_task(spec):
 # The client's side: submit, gather, arrange.
 
 def _label(seeds):
-    return f"seed {seeds[0]}" if len(seeds) == 1 else f"seeds {seeds[0]}..{seeds[-1]}"
+    if len(seeds) == 1:
+        return f"seed {seeds[0]}"
+    if seeds[0] == seeds[-1]:
+        return f"seed {seeds[0]} ({len(seeds)} episodes)"
+    return f"seeds {seeds[0]}..{seeds[-1]}"
 
 
 def _specs(scene, seeds, periods, opts, label, most):
