@@ -131,6 +131,33 @@ class TestBatchWorld(unittest.TestCase):
             batch.place_ball(0, 0.0, float("inf"))
         self.assertTrue(np.array_equal(batch.robots, before))
 
+    def test_a_world_that_blows_up_is_frozen_alone(self):
+        # Motors far too stiff for RK4 at 10 ms: driven, world 1 overflows to
+        # NaN; it then stays where it stopped (no more steps, which on NaN
+        # would be slow and meaningless) while world 0 goes on, until reset.
+        motor = {"resistance": 0.001, "k": 100, "rotor_inertia": 0}
+        scene = {"field": {"length": 100.0, "width": 100.0}, "simulation": {"integrator": "rk4", "dt": 0.01},
+                 "ball": {"x": 40.0, "y": 40.0},
+                 "robots": [{"x": 0.0, "y": 0.0, "theta": 0.3,
+                             "params": {"mass": 0.01, "inertia": 1e-7, "right": motor, "left": motor}}]}
+        batch = vssim.BatchWorld(2, scene, threads=2)
+        u = np.zeros((2, 1, 2))
+        u[1] = 7.0
+        batch.set_voltages(u)
+        for _ in range(20):
+            batch.step(0.03)
+        self.assertFalse(np.all(np.isfinite(batch.robots[1])))
+        frozen = batch.times[1]
+        self.assertLess(frozen, batch.times[0])
+        for _ in range(5):
+            batch.step(0.03)
+        self.assertEqual(batch.times[1], frozen)
+        self.assertAlmostEqual(batch.times[0], 25 * 0.03)
+        batch.reset(1)
+        self.assertTrue(np.all(np.isfinite(batch.robots[1])))
+        batch.step(0.03)
+        self.assertAlmostEqual(batch.times[1], 0.03)
+
     def test_bad_input(self):
         batch = vssim.BatchWorld(2, remote_match(), threads=1)
         with self.assertRaisesRegex(ValueError, r"expected shape \(2, 6, 2\)"):

@@ -33,6 +33,7 @@ void Match::setControl(Team team, TeamControl control) {
 }
 
 AdvanceReport Match::advanceTo(std::int64_t target) {
+    if (firstNonFiniteBody(sim_.state()) >= 0) return {};  // frozen until reset
     if (!ticking_) return sim_.advanceTo(target);
     AdvanceReport total;
     while (sim_.state().step < target) {

@@ -39,13 +39,16 @@ public:
     // Steps of dt per game tick.
     std::int64_t tickSteps() const { return tickSteps_; }
     // Whether ticks matter (a referee or a built-in team): false means
-    // advanceTo is exactly Simulation::advanceTo.
+    // advanceTo is exactly Simulation::advanceTo (for a finite world).
     bool ticking() const { return ticking_; }
     TeamControl control(Team team) const { return team == Team::Yellow ? yellow_ : blue_; }
     void setControl(Team team, TeamControl control);
 
     // Advances to step `target`, with the referee and the built-in teams at
     // every tick boundary on the way (including `target` if it is one).
+    // A world whose state is not finite (firstNonFiniteBody) is frozen: it
+    // does not advance (stepping NaN on is meaningless, and very slow); a
+    // ticking world stops at the first tick after it went non-finite.
     AdvanceReport advanceTo(std::int64_t target);
 
     // A remote team's voltages for one robot (V): applied now while the game
