@@ -127,6 +127,7 @@ private slots:
     void poolRunsEveryIndexOnce();
     void poolPropagatesTheLowestIndexException();
     void poolOfOneRunsOnTheCaller();
+    void poolThreadIndices();
     void poolNestedLoopRunsSerially();
     void poolRefusesNegativeCount();
     void stepsRoundUpToStepsAndTicks();
@@ -195,6 +196,35 @@ void TestBatchWorld::poolOfOneRunsOnTheCaller() {
     std::thread::id single;
     three.parallelFor(1, [&](std::size_t) { single = std::this_thread::get_id(); });
     QVERIFY(single == caller);
+}
+
+void TestBatchWorld::poolThreadIndices() {
+    // Each call knows which of the pool's threads runs it: 0 is the caller,
+    // and an index is never used by two threads at once.
+    QCOMPARE(ThreadPool::threadIndex(), 0);
+    ThreadPool pool(3);
+    std::vector<std::atomic<int>> inUse(3);
+    for (auto& u : inUse) u = 0;
+    std::atomic<bool> clash{false}, outOfRange{false};
+    std::atomic<int> callerRan{0};
+    const std::thread::id caller = std::this_thread::get_id();
+    pool.parallelFor(3000, [&](std::size_t) {
+        const int t = ThreadPool::threadIndex();
+        if (t < 0 || t >= 3) {
+            outOfRange = true;
+            return;
+        }
+        if (inUse[t].fetch_add(1) != 0) clash = true;
+        if ((t == 0) != (std::this_thread::get_id() == caller)) clash = true;
+        if (t == 0) ++callerRan;
+        volatile double x = 0;
+        for (int k = 0; k < 200; ++k) x = x + k;
+        inUse[t].fetch_sub(1);
+    });
+    QVERIFY(!outOfRange);
+    QVERIFY(!clash);
+    QVERIFY(callerRan.load() > 0);  // the caller takes part
+    QCOMPARE(ThreadPool::threadIndex(), 0);
 }
 
 void TestBatchWorld::poolNestedLoopRunsSerially() {

@@ -39,7 +39,7 @@ void checkNumber(double value, const char* what, int world, int robot) {
 }  // namespace
 
 BatchWorld::BatchWorld(const Scene& scene, int worlds, int threads, std::uint64_t seed)
-    : scene_(scene), seed_(seed), pool_(poolSize(worlds, threads)) {
+    : scene_(scene), seed_(seed), pool_(poolSize(worlds, threads)), tableCaches_(pool_.size()) {
     matches_.resize(static_cast<std::size_t>(worlds));
     pool_.parallelFor(matches_.size(), [this](std::size_t i) {
         matches_[i] = std::make_unique<Match>(scene_, seedOf(static_cast<int>(i)));
@@ -129,6 +129,7 @@ std::int64_t BatchWorld::step(double seconds) {
     const std::int64_t steps = stepsFor(seconds);
     pool_.parallelFor(matches_.size(), [this, steps](std::size_t i) {
         Match& m = *matches_[i];
+        m.lendTableCache(&tableCaches_[static_cast<std::size_t>(ThreadPool::threadIndex())]);
         m.advanceTo(m.simulation().state().step + steps);
     });
     return steps;

@@ -9,7 +9,11 @@ namespace vssim {
 namespace {
 // The pool whose worker this thread is, if any (a nested parallelFor runs serially).
 thread_local const ThreadPool* tCurrentPool = nullptr;
+// Which of its pool's threads this one is (threadIndex()).
+thread_local int tThreadIndex = 0;
 }  // namespace
+
+int ThreadPool::threadIndex() { return tThreadIndex; }
 
 ThreadPool::ThreadPool(int threads) {
     if (threads < 0)
@@ -18,7 +22,11 @@ ThreadPool::ThreadPool(int threads) {
     if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     workers_.reserve(static_cast<std::size_t>(threads - 1));
     try {
-        for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { workerLoop(); });
+        for (int i = 1; i < threads; ++i)
+            workers_.emplace_back([this, i] {
+                tThreadIndex = i;
+                workerLoop();
+            });
     } catch (...) {
         {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -57,7 +65,19 @@ void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t
     // workers (or from fn on the caller): the others may all be waiting for
     // this one, so the loop runs here.
     if (workers_.empty() || n == 1 || tCurrentPool == this) {
-        runSerially(n, fn);
+        if (tCurrentPool == this) {  // nested: keep this thread's index
+            runSerially(n, fn);
+            return;
+        }
+        const int outerIndex = tThreadIndex;
+        tThreadIndex = 0;
+        try {
+            runSerially(n, fn);
+        } catch (...) {
+            tThreadIndex = outerIndex;
+            throw;
+        }
+        tThreadIndex = outerIndex;
         return;
     }
     std::lock_guard<std::mutex> loop(loopMutex_);
@@ -75,9 +95,12 @@ void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t
     // The caller runs indices too, marked as one of the pool's threads (a
     // nested parallelFor from fn runs serially).
     const ThreadPool* outer = tCurrentPool;
+    const int outerIndex = tThreadIndex;
     tCurrentPool = this;
+    tThreadIndex = 0;
     const std::size_t ran = runIndices();
     tCurrentPool = outer;
+    tThreadIndex = outerIndex;
     lock.lock();
     finished_ += ran;
     // Done when every index has run and no worker is still inside the loop

@@ -174,7 +174,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.freeRobots = &frozenRobots_;
         options.freeBall = start.frozen[n] != 0;
         options.frozen = skip;
-        options.tables = &tables_;
+        options.tables = tables();
         options.broadPhase = &broadPhase_;
         options.frozenRobotSpeed = &frozenSpeed_;
         const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s

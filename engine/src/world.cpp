@@ -279,7 +279,7 @@ void Simulation::applyDueCommands() {
 
 void Simulation::advanceBodies(double h, const std::vector<char>* robots, bool ball) {
     for (std::size_t i = 0; i < state_.robots.size(); ++i)
-        if (!robots || (*robots)[i]) integrateRobotBy(model_, state_, i, h, &tables_);
+        if (!robots || (*robots)[i]) integrateRobotBy(model_, state_, i, h, tables());
     if (ball && !atRest(state_.ball)) integrateBallExact(model_.ball, state_.ball, h);
     flushToRest(state_);
 }

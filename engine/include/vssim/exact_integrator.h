@@ -70,7 +70,8 @@ public:
     const ExactStepTable& table(int robot, const RobotModel& model, double h, int panels);
 
 private:
-    static constexpr std::size_t kMaxPerModel = 256;  // a scene of many step lengths must not grow it forever
+    // A scene of many step lengths must not grow it forever (a table is about 1 to 3 kB).
+    static constexpr std::size_t kMaxPerModel = 1024;
     struct Dynamics {
         Eigen::Matrix2d A;  // the model's velocity matrix, the tables' only input besides the key
         std::map<std::pair<double, int>, ExactStepTable> tables;

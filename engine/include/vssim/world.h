@@ -130,6 +130,14 @@ public:
 
     RobotOutputs robotOutputs(int robot) const;
 
+    // The exact integrator's step tables are a cache (exact_integrator.h):
+    // results never depend on it. By default each Simulation keeps its own.
+    // A caller stepping many simulations of the same robots on one thread
+    // (BatchWorld) may lend them one cache, so that the tables are built
+    // once and stay warm in the processor's cache; it must outlive its use
+    // and serve one thread at a time. nullptr: back to the simulation's own.
+    void lendTableCache(ExactTableCache* cache) { lentTables_ = cache; }
+
 private:
     struct ScheduledCommand {
         std::int64_t step;
@@ -150,9 +158,10 @@ private:
     void advanceBodies(double h, const std::vector<char>* robots, bool ball);
     void finishStep(std::int64_t steps);
     StepReport ordinaryStep();  // one stepWorld of dt, and the clock moves on by dt
+    ExactTableCache* tables() { return lentTables_ ? lentTables_ : &tables_; }
     StepOptions cachedTables() {
         StepOptions options;
-        options.tables = &tables_;
+        options.tables = tables();
         options.broadPhase = &broadPhase_;
         return options;
     }
@@ -176,6 +185,7 @@ private:
     std::vector<ScheduledCommand> schedule_;  // sorted by step, stable (file order on ties)
     std::size_t nextCommand_ = 0;
     ExactTableCache tables_;
+    ExactTableCache* lentTables_ = nullptr;  // lendTableCache's, used instead of tables_
     BroadPhaseScratch broadPhase_;  // the contact tests' order along x, kept between steps
     // Work buffers of advanceTo (kept to avoid allocations; not state).
     FreeBodies free_;

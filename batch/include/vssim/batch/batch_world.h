@@ -104,6 +104,11 @@ private:
     std::uint64_t seed_;
     std::vector<std::unique_ptr<Match>> matches_;
     ThreadPool pool_;
+    // The exact integrator's step tables, one cache per pool thread, lent to
+    // each world for its step (Simulation::lendTableCache): every world of the
+    // batch has the same robots and step lengths, so a few tables serve them
+    // all and stay in the processor's cache, instead of a copy per world.
+    std::vector<ExactTableCache> tableCaches_;
 
     Match& at(int world, const char* what);
     const Match& at(int world, const char* what) const;

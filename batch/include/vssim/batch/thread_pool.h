@@ -32,6 +32,11 @@ public:
     // The threads a loop runs on: the workers and the caller.
     int size() const { return static_cast<int>(workers_.size()) + 1; }
 
+    // Inside fn of a parallelFor: which of the pool's threads runs this call,
+    // 0 (the caller) to size() - 1; always 0 for a loop run serially. (So
+    // that fn can use per-thread scratch without locking.) 0 elsewhere.
+    static int threadIndex();
+
     // Calls fn(i) for every i in [0, n), each exactly once, on the caller and
     // the workers, in no particular order, and blocks until every call has
     // returned.

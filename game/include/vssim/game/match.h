@@ -34,6 +34,8 @@ public:
 
     const Scene& scene() const { return sim_.scene(); }
     const Simulation& simulation() const { return sim_; }
+    // Simulation::lendTableCache, for BatchWorld.
+    void lendTableCache(ExactTableCache* cache) { sim_.lendTableCache(cache); }
     const GameState& game() const { return game_; }
     const std::vector<Team>& teams() const { return teams_; }
     // Steps of dt per game tick.
