@@ -10,8 +10,9 @@ The workload: the 3 vs 3 kick-off on the official field (referee on, both
 teams remote, so all six robots take Python's voltages), the `exact`
 integrator at 1 ms, new uniform random voltages (+-7.4 V) for every robot
 every 30 ms control step. Every world plays episodes of 3 s from the end of
-the kick-off's stop; a batch of n worlds plays ceil(256 / n) rounds, so
-every configuration simulates the same 256 or more episodes.
+the kick-off's stop; a batch of n worlds plays ceil(1024 / n) rounds, so
+every configuration simulates the same 1024 or more episodes (the resets
+between rounds are not timed).
 
     PYTHONPATH=build/python bench/python_batch_bench.py [--repeats 3] [--csv out.csv] [--vssim build/app/vssim]
 """
@@ -36,6 +37,7 @@ CONTROL = 0.03      # s per control step
 EPISODE = 3.0       # s of play per episode
 MAX_VOLTAGE = 7.4   # V
 STOP = 0.1          # s: the kick-off's stop (shortened), stepped before timing
+EPISODES = 1024   # at least this many episodes per configuration
 
 
 def scene(integrator="exact", blue="remote"):
@@ -51,7 +53,7 @@ def run_batch(n, threads, observe, integrator="exact"):
     """(world-seconds simulated, wall seconds, control steps) for >= 256 episodes."""
     batch = vssim.BatchWorld(n, scene(integrator), threads=threads)
     rng = np.random.default_rng(n)
-    rounds = -(-256 // n)
+    rounds = -(-EPISODES // n)
     steps = int(round(EPISODE / CONTROL))
     wall = 0.0
     for _ in range(rounds):
@@ -69,12 +71,12 @@ def run_batch(n, threads, observe, integrator="exact"):
 
 
 def run_world(observe):
-    """A lone vssim.World: 16 episodes."""
+    """A lone vssim.World: 128 episodes."""
     world = vssim.World(scene())
     rng = np.random.default_rng(1)
     steps = int(round(EPISODE / CONTROL))
     wall = 0.0
-    for _ in range(16):
+    for _ in range(128):
         world.reset()
         world.step(STOP)
         volts = rng.uniform(-MAX_VOLTAGE, MAX_VOLTAGE, (steps, world.n_robots, 2))
@@ -85,7 +87,7 @@ def run_world(observe):
             if observe:
                 _ = (world.robots, world.wheel_speeds, world.ball, world.score)
         wall += time.perf_counter() - t
-    return 16 * steps * CONTROL, wall, 16 * steps
+    return 128 * steps * CONTROL, wall, 128 * steps
 
 
 def call_overhead():
@@ -196,6 +198,10 @@ def main():
     parser.add_argument("--csv", help="write every run here")
     parser.add_argument("--vssim", default=os.path.join("build", "app", "vssim"), help="the vssim program (TCP)")
     parser.add_argument("--sizes", default="1,16,256,4096", help="batch sizes (default 1,16,256,4096)")
+    parser.add_argument("--label", default="", help="a label for this build's rows in the CSV (e.g. before, after)")
+    parser.add_argument("--no-observations", action="store_true",
+                        help="only the runs without observations (for builds whose BatchWorld lacks wheel_speeds)")
+    parser.add_argument("--no-tcp", action="store_true", help="leave out the TCP lockstep baseline")
     args = parser.parse_args()
     if args.repeats < 1:
         parser.error("--repeats must be at least 1")
@@ -205,7 +211,7 @@ def main():
 
     def record(config, n, threads, observe, result):
         world_seconds, wall, steps = result
-        rows.append({"config": config, "worlds": n, "threads": threads, "observations": observe,
+        rows.append({"label": args.label, "config": config, "worlds": n, "threads": threads, "observations": observe,
                      "world_seconds": world_seconds, "wall_seconds": wall, "control_steps": steps,
                      "world_steps_per_second": world_seconds / CONTROL / wall,
                      "realtime_factor": world_seconds / wall})
@@ -216,15 +222,16 @@ def main():
     print(f"python {sys.version.split()[0]}, vssim {vssim.__version__}, {os.cpu_count()} cores", flush=True)
     for r in range(args.repeats):
         print(f"run {r + 1} of {args.repeats}", flush=True)
-        if os.path.exists(args.vssim):
+        if os.path.exists(args.vssim) and not args.no_tcp:
             record("tcp", 1, 1, True, run_tcp(args.vssim))
-        for observe in (False, True):
+        observations = (False,) if args.no_observations else (False, True)
+        for observe in observations:
             record("world", 1, 1, observe, run_world(observe))
         for n in sizes:
             for threads in (1, 2):
                 if n == 1 and threads == 2:
                     continue
-                for observe in (False, True):
+                for observe in observations:
                     record("batch", n, threads, observe, run_batch(n, threads, observe))
         record("batch_rk4", 256, 1, False, run_batch(256, 1, False, "rk4"))
 
