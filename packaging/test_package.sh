@@ -84,6 +84,9 @@ for f in \
     usr/lib/python3/dist-packages/vssim/__init__.py \
     usr/lib/python3/dist-packages/vssim/env/__init__.py \
     usr/lib/python3/dist-packages/vssim/env/vector.py \
+    usr/lib/python3/dist-packages/vssim/distributed.py \
+    usr/share/doc/vssim/docs/distributed.md \
+    usr/share/doc/vssim/docs/images/train_go_to_ball.png \
     usr/share/vssim/examples/python/train_go_to_ball.py \
     usr/share/doc/vssim/docs/python.md \
     usr/share/man/man1/vssim.1.gz \
@@ -174,8 +177,10 @@ pymod=$(ls "$root"/usr/lib/python3/dist-packages/vssim/_vssim.cpython-*.so 2>/de
 if readelf -d "$pymod" | grep -qE 'RPATH|RUNPATH'; then fail "$(basename "$pymod") has an RPATH"; fi
 if [ -x /usr/bin/python3 ] && /usr/bin/python3 -c "import numpy" 2>/dev/null; then
     out=$(cd "$tmp" && env -u LD_LIBRARY_PATH PYTHONPATH="$root/usr/lib/python3/dist-packages" /usr/bin/python3 -c "
-import vssim, vssim.env
+import vssim, vssim.env, vssim.distributed
 assert vssim.__file__.startswith('$root/'), vssim.__file__
+eps = vssim.distributed.run_episodes(None, 'kickoff_3v3', [1, 2], 0.3)
+assert eps.ok.all() and eps.steps.tolist() == [300, 300], (eps.errors, eps.steps)
 w = vssim.World('kickoff_3v3')
 w.step(0.5)
 env = vssim.env.VssimVectorEnv('GoToBall', num_envs=2)
