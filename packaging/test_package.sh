@@ -84,7 +84,8 @@ for f in \
     usr/lib/python3/dist-packages/vssim/__init__.py \
     usr/lib/python3/dist-packages/vssim/env/__init__.py \
     usr/lib/python3/dist-packages/vssim/env/vector.py \
-    usr/lib/python3/dist-packages/vssim/distributed.py \
+    usr/lib/python3/dist-packages/vssim/distributed/__init__.py \
+    usr/lib/python3/dist-packages/vssim/distributed/worker.py \
     usr/share/doc/vssim/docs/distributed.md \
     usr/share/doc/vssim/docs/images/train_go_to_ball.png \
     usr/share/vssim/examples/python/train_go_to_ball.py \
