@@ -21,7 +21,6 @@ python3-numpy); --plot needs python3-matplotlib. docs/python.md,
 import argparse
 import csv
 import math
-import os
 import sys
 import time
 
