@@ -71,12 +71,12 @@ def run_batch(n, threads, observe, integrator="exact"):
 
 
 def run_world(observe):
-    """A lone vssim.World: 128 episodes."""
+    """A lone vssim.World: 512 episodes."""
     world = vssim.World(scene())
     rng = np.random.default_rng(1)
     steps = int(round(EPISODE / CONTROL))
     wall = 0.0
-    for _ in range(128):
+    for _ in range(512):
         world.reset()
         world.step(STOP)
         volts = rng.uniform(-MAX_VOLTAGE, MAX_VOLTAGE, (steps, world.n_robots, 2))
@@ -87,7 +87,7 @@ def run_world(observe):
             if observe:
                 _ = (world.robots, world.wheel_speeds, world.ball, world.score)
         wall += time.perf_counter() - t
-    return 128 * steps * CONTROL, wall, 128 * steps
+    return 512 * steps * CONTROL, wall, 512 * steps
 
 
 def call_overhead():
@@ -122,7 +122,7 @@ def free_port():
         return s.getsockname()[1]
 
 
-def run_tcp(vssim_binary, steps=400):
+def run_tcp(vssim_binary, steps=2000):
     """A lockstep client of `vssim serve --lockstep` (yellow, ground truth
     only): voltages for its three robots, then a 30 ms step, waiting for the
     REPLY; blue is idle (0 V). (world-seconds, wall seconds, steps)."""

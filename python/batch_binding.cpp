@@ -47,15 +47,26 @@ void bindBatchWorld(py::module_& m) {
 of threads (threads=0: every core), each with its own inputs. World i is
 bit-identical to vssim.World(scene, seed=0 if seed == 0 else seed + i)
 given the same inputs, whatever the thread count.)")
-        .def(py::init([](std::int64_t n, const py::object& scene, int threads, std::uint64_t seed) {
+        .def(py::init([](std::int64_t n, const py::object& scene, int threads, const py::object& seed) {
                  if (n < 1 || n > (1 << 24))
                      throw std::invalid_argument("n: expected 1 to 16777216 worlds, got " + std::to_string(n));
-                 return std::make_unique<BatchWorld>(loadScene(scene), static_cast<int>(n), threads, seed);
+                 const std::uint64_t s = seedArgument(seed);
+                 return std::make_unique<BatchWorld>(loadScene(scene), static_cast<int>(n), threads, s);
              }),
              py::arg("n"), py::arg("scene"), py::arg("threads") = 0, py::arg("seed") = 0)
         .def_property_readonly("n_worlds", &BatchWorld::size)
         .def_property_readonly("n_robots", &BatchWorld::robots)
         .def_property_readonly("threads", &BatchWorld::threads)
+        .def_property_readonly("dt", [](const BatchWorld& b) { return b.match(0).simulation().dt(); },
+                               "The step every world takes, s.")
+        .def_property_readonly(
+            "step_counts",
+            [](const BatchWorld& b) {
+                py::array_t<std::int64_t> a(static_cast<py::ssize_t>(b.size()));
+                b.copySteps(a.mutable_data());
+                return a;
+            },
+            "(n_worlds,) int64: steps of dt each world has taken (its time is step_counts * dt).")
         .def("scene_json", [](const BatchWorld& b) { return sceneToJson(b.scene()).toStdString(); },
              "The complete scene every world plays, as scene-file JSON, every parameter spelled out.")
         .def(

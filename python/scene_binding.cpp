@@ -1,5 +1,6 @@
 #include "scene_binding.h"
 
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -26,6 +27,18 @@ Scene loadScene(const py::object& scene) {
     }
     if (!loaded) throw std::invalid_argument(error);
     return std::move(*loaded);
+}
+
+std::uint64_t seedArgument(const py::object& seed) {
+    const py::object operator_ = py::module_::import("operator");
+    if (py::isinstance<py::bool_>(seed) || !py::hasattr(seed, "__index__"))
+        throw py::type_error("seed: expected a whole number >= 0, got " + py::str(py::type::of(seed)).cast<std::string>());
+    const py::object value = operator_.attr("index")(seed);
+    const py::object largest = py::int_(std::numeric_limits<std::uint64_t>::max());
+    if (operator_.attr("lt")(value, py::int_(0)).cast<bool>() || operator_.attr("gt")(value, largest).cast<bool>())
+        throw std::invalid_argument("seed: expected a whole number from 0 to 2^64 - 1, got " +
+                                    py::repr(value).cast<std::string>());
+    return value.cast<std::uint64_t>();
 }
 
 }  // namespace vssim::python

@@ -22,8 +22,8 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-std::unique_ptr<World> makeWorld(const py::object& scene, std::uint64_t seed) {
-    return std::make_unique<World>(loadScene(scene), seed);
+std::unique_ptr<World> makeWorld(const py::object& scene, const py::object& seed) {
+    return std::make_unique<World>(loadScene(scene), seedArgument(seed));
 }
 
 // Anything numpy turns into float64 with shape (robots, 2): [right, left] per robot.

@@ -63,6 +63,18 @@ class TestBatchWorld(unittest.TestCase):
                 self.assertEqual(tuple(batch.scores[i]), tuple(world.score))
                 self.assertEqual(batch.times[i], world.time)
 
+    def test_steps_between_ticks_match_a_lone_world(self):
+        # 15 ms control periods with 10 ms game ticks: the batch takes whole
+        # steps (15), as World.step does, and stays bit-identical to it.
+        batch = vssim.BatchWorld(2, SCENE, threads=2, seed=4)
+        world = vssim.World(SCENE, seed=5)
+        for k in range(300):
+            self.assertEqual(batch.step(0.015), 15)
+            world.step(0.015)
+        self.assertEqual(batch.times[1], world.time)
+        self.assertTrue(np.array_equal(batch.robots[1], world.robots))
+        self.assertTrue(np.array_equal(batch.balls[1], world.ball))
+
     def test_thread_count_changes_nothing(self):
         one = self.run_batch(remote_match(), 5, threads=1, wheel=True)
         three = self.run_batch(remote_match(), 5, threads=3, wheel=True)
@@ -107,6 +119,10 @@ class TestBatchWorld(unittest.TestCase):
         self.assertEqual(batch.wheel_speeds.shape, (3, 6, 2))
         # The other worlds were not moved.
         self.assertTrue(np.array_equal(batch.robots[0], batch.robots[2]))
+        # The clock: dt and each world's steps.
+        self.assertEqual(batch.dt, 0.001)
+        self.assertEqual(batch.step_counts.tolist(), [600, 600, 600])
+        np.testing.assert_array_equal(batch.times, batch.step_counts * batch.dt)
         # The scene every world plays, spelled out.
         self.assertEqual(batch.scene_json(), world.scene_json())
 
@@ -166,8 +182,12 @@ class TestBatchWorld(unittest.TestCase):
             batch.set_voltages("volts")
         bad = np.zeros((2, 6, 2))
         bad[1, 3, 0] = np.nan
-        with self.assertRaisesRegex(ValueError, "NaN|not a number|finite"):
+        with self.assertRaisesRegex(ValueError, "world 1, robot 3: the right voltage is nan"):
             batch.set_voltages(bad)
+        bad[1, 3, 0] = 0.0
+        bad[0, 5, 1] = -np.inf
+        with self.assertRaisesRegex(ValueError, "world 0, robot 5: the left wheel speed is -inf"):
+            batch.set_wheel_speeds(bad)
         for seconds in (0.0, -1.0, float("nan"), float("inf")):
             with self.assertRaises(ValueError):
                 batch.step(seconds)
@@ -179,6 +199,13 @@ class TestBatchWorld(unittest.TestCase):
             vssim.BatchWorld(2, {"robots": [{"team": "purple"}]})
         with self.assertRaises(ValueError):
             vssim.BatchWorld(2, remote_match(), threads=-1)
+        with self.assertRaisesRegex(ValueError, "seed: expected a whole number from 0 to 2\\^64 - 1, got -1"):
+            vssim.BatchWorld(2, remote_match(), seed=-1)
+        for seed in (1.5, True, "7"):
+            with self.assertRaisesRegex(TypeError, "seed: expected a whole number"):
+                vssim.BatchWorld(2, remote_match(), seed=seed)
+        with self.assertRaisesRegex(ValueError, r"1e\+300 s is too long"):
+            batch.step(1e300)
         # Still usable after all of that.
         batch.set_voltages(np.ones((2, 6, 2)))
         self.assertGreater(batch.step(0.03), 0)

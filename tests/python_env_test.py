@@ -2,8 +2,8 @@
 """vssim.env (docs/python.md, "Gym-style environments"): the Gymnasium API
 without Gymnasium installed, the two tasks' observations, rewards and ends
 against independent computations from the world's state, actions as
-voltages and as wheel speeds, the vector environment bit-identical to single
-ones, bad input, and registration when Gymnasium is importable (a stand-in
+voltages and as wheel speeds, the vector environment's worlds bit-identical
+to single environments' (and their rewards and observations equal to rounding), bad input, and registration when Gymnasium is importable (a stand-in
 module).
 
 Run by ctest with PYTHONPATH=<build>/python; by hand:
@@ -222,7 +222,8 @@ class TestSingleEnv(unittest.TestCase):
             VssimEnv("Dribble")
         with self.assertRaisesRegex(ValueError, "action_type"):
             VssimEnv("GoToBall", action_type="torques")
-        for period in (0, -0.03, float("nan"), float("inf"), "fast"):
+        self.assertEqual(VssimEnv("GoToBall", control_period=np.float32(0.03)).control_period, float(np.float32(0.03)))
+        for period in (0, -0.03, float("nan"), float("inf"), "fast", True):
             with self.assertRaisesRegex(ValueError, "control_period"):
                 VssimEnv("GoToBall", control_period=period)
         with self.assertRaisesRegex(ValueError, "render_mode"):
@@ -261,15 +262,21 @@ class TestVectorEnv(unittest.TestCase):
                 obs, rewards, terminated, truncated, infos = vec.step(actions)
                 for i, env in enumerate(singles):
                     o, r, te, tr, info = env.step(actions[i])
-                    self.assertEqual((r, te, tr), (rewards[i], terminated[i], truncated[i]), f"{task} {k} {i}")
+                    where = f"{task} step {k} env {i}"
+                    self.assertEqual((te, tr), (terminated[i], truncated[i]), where)
+                    # What numpy computes from them: to rounding (see docs/python.md).
+                    self.assertAlmostEqual(r, rewards[i], delta=1e-12, msg=where)
                     if te or tr:
                         ended += 1
                         self.assertTrue(infos["_final_observation"][i])
-                        self.assertTrue(np.array_equal(infos["final_observation"][i], o))
-                        self.assertEqual(infos["episode_return"][i], info["episode_return"])
+                        np.testing.assert_allclose(infos["final_observation"][i], o, rtol=1e-6, atol=1e-7)
+                        self.assertAlmostEqual(infos["episode_return"][i], info["episode_return"], delta=1e-9)
                         self.assertEqual(infos["episode_length"][i], info["episode_length"])
                         o, _ = env.reset()
-                    self.assertTrue(np.array_equal(obs[i], o), f"{task} step {k} env {i}")
+                    # The worlds: bit for bit (both at the new episode's start after an end).
+                    self.assertTrue(np.array_equal(vec.batch.robots[i], env.world.robots), where)
+                    self.assertTrue(np.array_equal(vec.batch.balls[i], env.world.ball), where)
+                    np.testing.assert_allclose(obs[i], o, rtol=1e-6, atol=1e-7, err_msg=where)
             self.assertGreater(ended, 3, task)
 
     def test_spaces_and_bad_input(self):

@@ -69,6 +69,15 @@ class Loading(unittest.TestCase):
         self.assertEqual(bits(d.robots), bits(w.robots))
         self.assertEqual(vssim.World({}).n_robots, 0)
 
+    def test_bad_seeds(self):
+        for seed in (-1, 2**64):
+            with self.assertRaisesRegex(ValueError, "seed: expected a whole number from 0 to 2\\^64 - 1"):
+                vssim.World("kickoff_3v3", seed=seed)
+        for seed in (0.5, False, None):
+            with self.assertRaisesRegex(TypeError, "seed: expected a whole number >= 0"):
+                vssim.World("kickoff_3v3", seed=seed)
+        self.assertEqual(vssim.World("kickoff_3v3", seed=np.uint64(2**64 - 1)).seed, 2**64 - 1)
+
     def test_bad_scenes(self):
         with self.assertRaisesRegex(ValueError, "no_such_scene"):
             vssim.World("no_such_scene")

@@ -130,7 +130,7 @@ private slots:
     void poolThreadIndices();
     void poolNestedLoopRunsSerially();
     void poolRefusesNegativeCount();
-    void stepsRoundUpToStepsAndTicks();
+    void stepsRoundUpToWholeSteps();
     void worldsMatchLoneMatchesAtAnyThreadCount_data();
     void worldsMatchLoneMatchesAtAnyThreadCount();
     void worldsAreIndependent();
@@ -238,17 +238,23 @@ void TestBatchWorld::poolRefusesNegativeCount() {
     expectThrow<std::invalid_argument>([] { ThreadPool pool(-1); }, "-1");
 }
 
-void TestBatchWorld::stepsRoundUpToStepsAndTicks() {
+void TestBatchWorld::stepsRoundUpToWholeSteps() {
     BatchWorld ticking(vsBuiltin(), 2, 1);
     QVERIFY(ticking.match(0).ticking());
     QCOMPARE(ticking.match(0).tickSteps(), std::int64_t(10));
+    // Whole steps, not whole ticks: a call may end between two ticks, as a
+    // lone Match's (or World's) may; the ticks still come at their steps.
     QCOMPARE(ticking.stepsFor(0.03), std::int64_t(30));
-    QCOMPARE(ticking.stepsFor(0.0301), std::int64_t(40));
-    QCOMPARE(ticking.stepsFor(1e-12), std::int64_t(10));
-    QCOMPARE(ticking.step(0.0301), std::int64_t(40));
+    QCOMPARE(ticking.stepsFor(0.0301), std::int64_t(31));
+    QCOMPARE(ticking.stepsFor(1e-12), std::int64_t(1));
+    QCOMPARE(ticking.step(0.015), std::int64_t(15));
+    QCOMPARE(ticking.step(0.015), std::int64_t(15));
     std::vector<std::int64_t> steps(2);
     ticking.copySteps(steps.data());
-    QCOMPARE(steps, (std::vector<std::int64_t>{40, 40}));
+    QCOMPARE(steps, (std::vector<std::int64_t>{30, 30}));
+    Match lone(vsBuiltin(), 0);
+    lone.advanceTo(30);
+    QCOMPARE(outcomeOf(ticking.match(0)), outcomeOf(lone));
 
     BatchWorld plain(plainScene(), 2, 2);
     QVERIFY(!plain.match(0).ticking());
@@ -271,10 +277,10 @@ void TestBatchWorld::worldsMatchLoneMatchesAtAnyThreadCount() {
     QFETCH(bool, referee);
     const Scene scene = referee ? vsBuiltin() : plainScene();
     constexpr int kWorlds = 5, kControls = 40;
-    constexpr double kSeconds = 0.0305;  // rounds up: 40 steps with ticks, 31 without
+    constexpr double kSeconds = 0.0305;  // rounds up to 31 steps: calls end between game ticks
     constexpr std::uint64_t kSeed = 11;
     const std::int64_t steps = BatchWorld(scene, 1, 1).stepsFor(kSeconds);
-    QCOMPARE(steps, std::int64_t(referee ? 40 : 31));
+    QCOMPARE(steps, std::int64_t(31));
     std::vector<Outcome> lone;
     for (int w = 0; w < kWorlds; ++w) lone.push_back(runLone(scene, w, kSeed + w, kControls, steps));
     // The inputs count: without the seeds, the worlds still differ.
@@ -440,8 +446,12 @@ void TestBatchWorld::badArgumentsThrow() {
     expectThrow<std::out_of_range>([&] { batch.setVoltages(-1, 0, {}); }, "world -1");
     expectThrow<std::out_of_range>([&] { batch.setVoltages(0, 6, {}); }, "robot 6 out of range (6 robots)");
     expectThrow<std::out_of_range>([&] { batch.setWheelSpeeds(0, -1, {}); }, "robot -1");
-    expectThrow<std::invalid_argument>([&] { batch.setVoltages(1, 2, {nan, 0.0}); }, "NaN for world 1, robot 2");
-    expectThrow<std::invalid_argument>([&] { batch.setWheelSpeeds(0, 0, {0.0, nan}); }, "NaN");
+    const double infinity = std::numeric_limits<double>::infinity();
+    expectThrow<std::invalid_argument>([&] { batch.setVoltages(1, 2, {nan, 0.0}); },
+                                       "world 1, robot 2: the right voltage is nan");
+    expectThrow<std::invalid_argument>([&] { batch.setWheelSpeeds(0, 0, {0.0, nan}); },
+                                       "world 0, robot 0: the left wheel speed is nan");
+    expectThrow<std::invalid_argument>([&] { batch.setVoltages(0, 1, {-infinity, 0.0}); }, "right voltage is -inf");
     expectThrow<std::out_of_range>([&] { batch.match(2); }, "match: world 2");
     expectThrow<std::out_of_range>([&] { batch.reset(5); }, "reset: world 5");
     expectThrow<std::out_of_range>([&] { batch.finite(-1); }, "world -1");
@@ -462,7 +472,7 @@ void TestBatchWorld::badArgumentsThrow() {
     // A NaN anywhere in the array: nothing is applied, not even the values before it.
     std::vector<double> in(2 * 6 * 2, 6.0);
     in.back() = nan;
-    expectThrow<std::invalid_argument>([&] { batch.setVoltagesAll(in.data()); }, "NaN for world 1, robot 5");
+    expectThrow<std::invalid_argument>([&] { batch.setVoltagesAll(in.data()); }, "world 1, robot 5: the left voltage is nan");
     batch.step(0.03);
     BatchWorld untouched(scene, 2, 1);
     untouched.step(0.03);

@@ -1,6 +1,7 @@
 #include "vssim/batch/batch_world.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -26,14 +27,26 @@ int poolSize(int worlds, int threads) {
     return std::min(threads, worlds);
 }
 
+// The shortest text that reads back as x (1e+300, not 300 digits).
+std::string shortest(double x) {
+    char text[32];
+    const auto result = std::to_chars(text, text + sizeof text, x);
+    return std::string(text, result.ptr);
+}
+
 void checkPointer(const void* p, std::size_t count, const char* what) {
     if (!p && count > 0) throw std::invalid_argument(std::string("BatchWorld::") + what + ": null pointer");
 }
 
-void checkNumber(double value, const char* what, int world, int robot) {
-    if (std::isnan(value))
-        throw std::invalid_argument(std::string("BatchWorld::") + what + ": NaN for world " + std::to_string(world) +
-                                    ", robot " + std::to_string(robot));
+// A command's number: finite (a NaN or an infinity is refused, as a lone
+// World refuses it). `side` 0 is the right wheel, 1 the left; `what` names the call.
+void checkNumber(double value, const char* what, int world, int robot, int side, bool wheelSpeeds) {
+    if (!std::isfinite(value))
+        throw std::invalid_argument(std::string("BatchWorld::") + what + ": world " + std::to_string(world) +
+                                    ", robot " + std::to_string(robot) + ": the " + (side == 0 ? "right" : "left") +
+                                    (wheelSpeeds ? " wheel speed" : " voltage") + " is " +
+                                    (std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf") +
+                                    " (expected a finite number)");
 }
 
 }  // namespace
@@ -84,8 +97,8 @@ void BatchWorld::setOne(int world, int robot, const DriveCommand& command, doubl
                         const char* what) {
     Match& m = at(world, what);
     checkRobot(robot, what);
-    checkNumber(right, what, world, robot);
-    checkNumber(left, what, world, robot);
+    checkNumber(right, what, world, robot, 0, command.wheelSpeeds);
+    checkNumber(left, what, world, robot, 1, command.wheelSpeeds);
     m.drive(robot, command);
 }
 
@@ -98,7 +111,7 @@ void BatchWorld::setAll(const double* rightLeft, bool wheelSpeeds, const char* w
     checkPointer(rightLeft, n, what);
     for (std::size_t k = 0; k < 2 * n; ++k)
         checkNumber(rightLeft[k], what, static_cast<int>(k / 2 / scene_.robots.size()),
-                    static_cast<int>(k / 2 % scene_.robots.size()));
+                    static_cast<int>(k / 2 % scene_.robots.size()), static_cast<int>(k % 2), wheelSpeeds);
     const int r = robots();
     for (int w = 0; w < size(); ++w)
         for (int i = 0; i < r; ++i) {
@@ -111,18 +124,13 @@ void BatchWorld::setAll(const double* rightLeft, bool wheelSpeeds, const char* w
 std::int64_t BatchWorld::stepsFor(double seconds) const {
     if (std::isnan(seconds)) throw std::invalid_argument("BatchWorld::step: seconds is NaN");
     if (!(seconds > 0.0))
-        throw std::invalid_argument("BatchWorld::step: seconds must be positive, not " + std::to_string(seconds));
+        throw std::invalid_argument("BatchWorld::step: seconds must be positive, not " + shortest(seconds));
     const Match& first = *matches_.front();
     const double dt = first.simulation().dt();
     if (!(seconds / dt <= kMaxSteps))
-        throw std::invalid_argument("BatchWorld::step: " + std::to_string(seconds) + " s is too long (at most " +
-                                    std::to_string(kMaxSteps * dt) + " s at a time)");
-    std::int64_t steps = std::max<std::int64_t>(1, Simulation::stepIndexAtOrAfter(seconds, dt));
-    if (first.ticking()) {
-        const std::int64_t tick = first.tickSteps();
-        steps = (steps + tick - 1) / tick * tick;
-    }
-    return steps;
+        throw std::invalid_argument("BatchWorld::step: " + shortest(seconds) + " s is too long (at most " +
+                                    shortest(kMaxSteps * dt) + " s, 10^15 steps, at a time)");
+    return std::max<std::int64_t>(1, Simulation::stepIndexAtOrAfter(seconds, dt));
 }
 
 std::int64_t BatchWorld::step(double seconds) {

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Teaches a robot to drive to the ball, from nothing, in about a minute on
+"""Teaches a robot to drive to the ball, from nothing, in about ten seconds on
 one machine: the cross-entropy method (a simple evolutionary search) over a
 linear policy, on vssim's GoToBall task, every candidate's episodes run
 together in one vssim.env.VssimVectorEnv (a BatchWorld in C++).

@@ -3,6 +3,7 @@ rewards out, starts drawn from each world's own random generator. The single
 and the vector environments are this with n = 1 and n = num_envs."""
 
 import math
+import numbers
 
 import numpy as np
 
@@ -30,7 +31,8 @@ class Episodes:
     def __init__(self, task, backend, action_type="voltages", control_period=0.03):
         if action_type not in ACTION_TYPES:
             raise ValueError(f"action_type: expected one of {ACTION_TYPES}, got {action_type!r}")
-        if not (isinstance(control_period, (int, float)) and math.isfinite(control_period) and control_period > 0):
+        if (isinstance(control_period, bool) or not isinstance(control_period, numbers.Real)
+                or not (math.isfinite(control_period) and control_period > 0)):
             raise ValueError(f"control_period: expected a positive finite number of seconds, got {control_period!r}")
         self.task = task
         self.backend = backend

@@ -40,20 +40,23 @@ public:
     // One robot's command, as Match::setVoltages / setWheelSpeeds: applied now
     // to a remote team's robot while the game is on, remembered otherwise,
     // ignored for a built-in or idle team's robot. Throws std::out_of_range
-    // for a world or robot out of range, std::invalid_argument for NaN.
+    // for a world or robot out of range, std::invalid_argument for a NaN or an
+    // infinity (naming the world, robot and side).
     void setVoltages(int world, int robot, const Voltages& e);
     void setWheelSpeeds(int world, int robot, const WheelSpeeds& w);
     // Every robot of every world at once from worlds * robots * 2 doubles
-    // (right, left), row-major. The whole array is checked (no NaN) before
+    // (right, left), row-major. The whole array is checked (finite numbers only) before
     // any world changes. Throws std::invalid_argument for a null pointer
-    // (unless there are no robots) or a NaN.
+    // (unless there are no robots) or a number that is not finite.
     void setVoltagesAll(const double* rightLeft);
     void setWheelSpeedsAll(const double* rightLeft);
 
     // The whole number of steps of dt that step(seconds) advances every world
     // by: seconds rounded up to steps (Simulation::stepIndexAtOrAfter, so
-    // 0.03 s at dt = 1 ms is 30 steps), at least 1, and up to a whole number
-    // of game ticks when the worlds tick (a referee or a built-in team).
+    // 0.03 s at dt = 1 ms is 30 steps), at least 1 -- as a lone World's step
+    // does, so that a world of the batch and a lone World given the same
+    // calls stay on the same steps. (Match::advanceTo runs the referee and
+    // the built-in teams at every game tick on the way, wherever a call ends.)
     // Throws std::invalid_argument for NaN, infinite, zero or negative
     // seconds, or more steps than an int64 holds.
     std::int64_t stepsFor(double seconds) const;

@@ -43,7 +43,7 @@ struct RefereeCall {
     int half = 1;
     double clock = 0.0;  // game time in the half when it was called, s
     double time = 0.0;   // simulated time, s
-    std::string reason;  // "goal by yellow", "stuck ball", "two defenders", "by hand", ...
+    std::string reason;  // "goal by yellow", "ball stuck", "two defenders", "by hand", ...
 };
 
 struct GameState {
