@@ -9,6 +9,7 @@
 #include <QTextStream>
 #include <cstdlib>
 
+#include "display.h"
 #include "io/scene_io.h"
 #include "main_window.h"
 #include "net/network_address.h"
@@ -16,14 +17,6 @@
 #include "wire/protocol.h"
 
 namespace vssim {
-
-bool displayAvailable() {
-    auto set = [](const char* name) {
-        const char* v = std::getenv(name);
-        return v && *v;
-    };
-    return set("DISPLAY") || set("WAYLAND_DISPLAY") || set("QT_QPA_PLATFORM");
-}
 
 int guiCommand(int argc, char** argv) {
     // The command line first, with a plain QCoreApplication: --help and bad

@@ -1,14 +1,18 @@
 // vssim: the command-line entry point. Subcommands dispatch to their own files.
+// The headless commands (run, match, stress, demo, --help, --version) run
+// here, in a program that loads Qt Core and nothing of the GUI, the camera or
+// the network; `gui` and `serve` (and no command, with a display) are run by
+// vssim-full, started in this process's place (full_program.h).
 #include <fcntl.h>
 #include <unistd.h>
 #include <QCoreApplication>
 #include <QTextStream>
 #include <string>
 
-#include "gui_command.h"
+#include "display.h"
+#include "full_program.h"
 #include "match_command.h"
 #include "run_command.h"
-#include "serve_command.h"
 #include "stress_command.h"
 
 namespace {
@@ -54,8 +58,9 @@ void holdClosedStandardDescriptors() {
 
 int main(int argc, char** argv) {
     holdClosedStandardDescriptors();
-    const bool gui = argc >= 2 ? std::string(argv[1]) == "gui" : vssim::displayAvailable();
-    if (gui) return vssim::guiCommand(argc, argv);  // says so itself when there is no display
+    const std::string first = argc >= 2 ? argv[1] : "";
+    if (first == "gui" || first == "serve" || (argc < 2 && vssim::displayAvailable()))
+        return vssim::runFullProgram(argv);  // `vssim gui` says so itself when there is no display
     QCoreApplication app(argc, argv);
     QCoreApplication::setApplicationName("vssim");
     QCoreApplication::setApplicationVersion(VSSIM_VERSION);
@@ -78,7 +83,6 @@ int main(int argc, char** argv) {
     }
     const QString command = args[1];
     if (command == "run") return vssim::runCommand(args.mid(1));
-    if (command == "serve") return vssim::serveCommand(args.mid(1));
     if (command == "match") return vssim::matchCommand(args.mid(1));
     if (command == "stress") return vssim::stressCommand(args.mid(1));
     if (command == "-h" || command == "--help" || command == "help") {

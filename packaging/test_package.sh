@@ -62,6 +62,7 @@ root="$tmp/root"
 dpkg-deb -x "$deb" "$root" || fail "dpkg-deb -x failed"
 for f in \
     usr/bin/vssim \
+    usr/libexec/vssim/vssim-full \
     usr/bin/vssim-example-client \
     usr/share/applications/vssim.desktop \
     usr/share/icons/hicolor/48x48/apps/vssim.png \
@@ -108,15 +109,17 @@ for f in \
     usr/share/doc/vssim/docs/performance/scale.png; do
     [ -f "$root/$f" ] || fail "not in the package: /$f"
 done
-for x in usr/bin/vssim usr/bin/vssim-example-client usr/share/vssim/examples/python/vssim_client.py \
+for x in usr/bin/vssim usr/libexec/vssim/vssim-full usr/bin/vssim-example-client usr/share/vssim/examples/python/vssim_client.py \
          usr/share/vssim/examples/firasim/go_to_ball.py; do
     [ -x "$root/$x" ] || fail "not executable: /$x"
 done
 nscenes=$(ls "$root/usr/share/vssim/scenes/"*.json | wc -l)
 [ "$nscenes" -ge 6 ] || fail "only $nscenes example scenes in /usr/share/vssim/scenes"
-if readelf -d "$root/usr/bin/vssim" | grep -qE 'RPATH|RUNPATH'; then
-    fail "/usr/bin/vssim has an RPATH: $(readelf -d "$root/usr/bin/vssim" | grep -E 'RPATH|RUNPATH')"
-fi
+for x in usr/bin/vssim usr/libexec/vssim/vssim-full; do
+    if readelf -d "$root/$x" | grep -qE 'RPATH|RUNPATH'; then
+        fail "/$x has an RPATH: $(readelf -d "$root/$x" | grep -E 'RPATH|RUNPATH')"
+    fi
+done
 grep -q '^Exec=vssim gui' "$root/usr/share/applications/vssim.desktop" || fail "vssim.desktop: Exec is not 'vssim gui ...'"
 if command -v desktop-file-validate >/dev/null 2>&1; then
     desktop-file-validate "$root/usr/share/applications/vssim.desktop" || fail "desktop-file-validate rejects vssim.desktop"
@@ -156,6 +159,9 @@ grep -q 'vssim run robot_hits_ball' "$root/usr/share/doc/vssim/README.md" || fai
 # 4. Run the installed program, with nothing from the build tree.
 out=$(env -u LD_LIBRARY_PATH "$root/usr/bin/vssim" --version 2>&1) || fail "vssim --version failed: $out"
 echo "$out" | grep -q "$version" || fail "vssim --version prints '$out', not $version"
+# vssim serve runs the installed vssim-full, found from vssim's own path.
+out=$(env -u LD_LIBRARY_PATH "$root/usr/bin/vssim" serve --help 2>&1) || fail "vssim serve --help failed: $out"
+echo "$out" | grep -q -- "--lockstep" || fail "vssim serve --help (through vssim-full) prints: $out"
 
 csv="$tmp/run.csv"
 (cd "$tmp" && env -u LD_LIBRARY_PATH -u DISPLAY -u WAYLAND_DISPLAY \
