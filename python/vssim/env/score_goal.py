@@ -61,7 +61,8 @@ class ScoreGoal(Task):
                                heading_features(robots, _KEEPER)], axis=1).astype(np.float32)
 
     def potential(self, robots, balls):
-        to_goal = np.hypot(np.maximum(self.half_length - balls[:, 0], 0.0), balls[:, 1])
+        across = np.maximum(self.half_length - balls[:, 0], 0.0)
+        to_goal = np.hypot(across, np.ascontiguousarray(balls[:, 1]))  # contiguous: see task.heading_features
         to_ball = gap_robot_ball(robots, 0, balls, self.side, self.radius)
         return -10.0 * to_goal - 2.0 * to_ball
 

@@ -64,7 +64,8 @@ def to_robot_frame(robots, robot, points):
     x ahead of it, y to its left, m."""
     dx = points[:, 0] - robots[:, robot, 0]
     dy = points[:, 1] - robots[:, robot, 1]
-    c, s = np.cos(robots[:, robot, 2]), np.sin(robots[:, robot, 2])
+    theta = np.ascontiguousarray(robots[:, robot, 2])  # (see heading_features)
+    c, s = np.cos(theta), np.sin(theta)
     return np.stack([c * dx + s * dy, -s * dx + c * dy], axis=1)
 
 
@@ -73,12 +74,19 @@ def gap_robot_ball(robots, robot, balls, side, radius):
     body of side `side` (m): 0 when they touch (or overlap)."""
     local = to_robot_frame(robots, robot, balls[:, :2])
     outside = np.maximum(np.abs(local) - 0.5 * side, 0.0)
-    return np.maximum(np.hypot(outside[:, 0], outside[:, 1]) - radius, 0.0)
+    across, along = np.ascontiguousarray(outside[:, 0]), np.ascontiguousarray(outside[:, 1])  # (see below)
+    return np.maximum(np.hypot(across, along) - radius, 0.0)
 
 
 def heading_features(robots, robot):
     """(n, 2): cos and sin of the robot's heading."""
-    theta = robots[:, robot, 2]
+    # Contiguous copies, here and wherever numpy's cos, sin or hypot gets a
+    # column of a batch: numpy may take another path for a strided view
+    # than for a contiguous array and round the last bit differently (seen:
+    # rewards of a vector environment and of a single one differing by 1e-15
+    # in a few processes out of a hundred under load), and a batch's column
+    # is strided where a single world's is not.
+    theta = np.ascontiguousarray(robots[:, robot, 2])
     return np.stack([np.cos(theta), np.sin(theta)], axis=1)
 
 
