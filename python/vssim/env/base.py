@@ -13,13 +13,33 @@ except ImportError:  # pragma: no cover - depends on the machine
 HAVE_GYMNASIUM = _gym is not None
 
 
-class _Env:
+class _Closable:
+    """What Gymnasium's Env and VectorEnv both have: render_mode, spec,
+    close(), unwrapped and the context manager."""
+
+    render_mode = None
+    spec = None
+
+    def close(self):
+        pass
+
+    @property
+    def unwrapped(self):
+        return self
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+
+class _Env(_Closable):
     """The part of gymnasium.Env the environments use: np_random, reset's
     seeding, close(), the context manager, unwrapped."""
 
     metadata = {"render_modes": []}
-    render_mode = None
-    spec = None
     _np_random = None
 
     @property
@@ -36,41 +56,11 @@ class _Env:
         if seed is not None:
             self._np_random = np.random.default_rng(seed)
 
-    def close(self):
-        pass
 
-    @property
-    def unwrapped(self):
-        return self
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-        return False
-
-
-class _VectorEnv:
+class _VectorEnv(_Closable):
     """The part of gymnasium.vector.VectorEnv the environments use."""
 
     metadata = {}
-    render_mode = None
-    spec = None
-
-    def close(self):
-        pass
-
-    @property
-    def unwrapped(self):
-        return self
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-        return False
 
 
 Env = _gym.Env if HAVE_GYMNASIUM else _Env
