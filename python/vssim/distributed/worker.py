@@ -100,7 +100,7 @@ def _run_task(spec):
                     out["world_errors"][i] = (
                         f"{where}, seed {spec['seeds'][i]}: the state of {body} went non-finite by "
                         f"t = {t + spec['control_dt']:.6g} s (parameters too stiff for the integrator at this dt?)")
-                batch.reset(i)  # its episode is over; a NaN world would only slow the steps down
+                batch.reset(i)  # its episode is over; reset, it hands the policy finite states again
         if measure is not None:
             stage = "measure"
             m = measure(batch)
