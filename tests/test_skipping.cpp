@@ -1,7 +1,11 @@
 // Skipping what a scene does not need gives the same results: the broad
 // phase finds the same contacts as all pairs, long contact-free steps never
 // miss a contact that steps of dt find and agree with them to rounding, and
-// bodies at rest cost nothing and stay bit-identical.
+// bodies at rest cost nothing and stay bit-identical. The comparisons with
+// step() are of the planner with its contacts on the grid
+// (time_of_impact = false), as step() has them; with contacts at their
+// instant the planner is compared with itself cut differently here, and
+// with fine fixed steps in tests/test_time_of_impact.cpp.
 #include <QtTest>
 
 #include <random>
@@ -191,6 +195,7 @@ void TestSkipping::longStepsAgreeWithFixedSteps() {
         Scene scene = crowd(seed, 6, 0.4);
         addRandomCommands(scene, seed, 1.0, 0.03);
         scene.simulation.integrator = Integrator::Exact;
+        scene.simulation.time_of_impact = false;
         Scene planned = scene;
         planned.simulation.long_steps = false;
         Simulation longSteps(scene), plannedFixed(planned), reference(scene);
@@ -217,27 +222,44 @@ void TestSkipping::longStepsAgreeWithFixedSteps() {
 
 void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
     // The same scene advanced in chunks of 1, 4 and 37 steps and in one call
-    // gives the same states to rounding as step() (the plan never changes
-    // the sub-steps or the contacts), here with a fast ball among the robots.
-    for (std::uint32_t seed = 1; seed <= 12; ++seed) {
-        Scene scene = crowd(100 + seed, 8, 0.3);
-        addRandomCommands(scene, seed, 0.3, 0.03);
-        scene.ball.vx = 6.0;
-        scene.ball.vy = -4.0;
-        scene.simulation.integrator = Integrator::Exact;
-        scene.simulation.dt = 0.002;
-        Simulation reference(scene);
-        while (reference.state().step < 150) reference.step();
-        for (const std::int64_t chunk : {std::int64_t(1), std::int64_t(4), std::int64_t(37), std::int64_t(150)}) {
-            Simulation sim(scene);
-            for (std::int64_t target = chunk; sim.state().step < 150;
-                 target = std::min<std::int64_t>(150, target + chunk))
-                sim.advanceTo(target);
-            const double diff = maxStateDifference(sim.state(), reference.state());
-            QVERIFY2(diff < 1e-9,
-                     qPrintable(QString("seed %1, chunks of %2: differs by %3 m").arg(seed).arg(chunk).arg(diff)));
+    // gives the same states to rounding, here with a fast ball among the
+    // robots: with contacts on the grid, as step() (the plan never changes
+    // the sub-steps or the contacts); with contacts at their instant, as the
+    // planner in one call (whether a step is searched depends on the state
+    // alone, not on where a call ends). Tolerances: 1e-9 m on the grid; 1e-7 m
+    // at their instant, whose search stops anywhere within kTouchDistance of
+    // touching: a rounding difference can move that stop by one iteration and
+    // the contact's instant by up to a microsecond (seen: 2.5e-9 m after 0.3 s).
+    int impacts = 0;
+    for (const bool atImpact : {false, true}) {
+        for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+            Scene scene = crowd(100 + seed, 8, 0.3);
+            addRandomCommands(scene, seed, 0.3, 0.03);
+            scene.ball.vx = 6.0;
+            scene.ball.vy = -4.0;
+            scene.simulation.integrator = Integrator::Exact;
+            scene.simulation.dt = 0.002;
+            scene.simulation.time_of_impact = atImpact;
+            Simulation reference(scene);
+            if (atImpact)
+                impacts += static_cast<int>(reference.advanceTo(150).impacts);
+            else
+                while (reference.state().step < 150) reference.step();
+            for (const std::int64_t chunk : {std::int64_t(1), std::int64_t(4), std::int64_t(37), std::int64_t(150)}) {
+                Simulation sim(scene);
+                for (std::int64_t target = chunk; sim.state().step < 150;
+                     target = std::min<std::int64_t>(150, target + chunk))
+                    sim.advanceTo(target);
+                const double diff = maxStateDifference(sim.state(), reference.state());
+                QVERIFY2(diff < (atImpact ? 1e-7 : 1e-9), qPrintable(QString("seed %1, chunks of %2, %3: differs by %4 m")
+                                                     .arg(seed)
+                                                     .arg(chunk)
+                                                     .arg(atImpact ? "contacts at their instant" : "on the grid")
+                                                     .arg(diff)));
+            }
         }
     }
+    QVERIFY(impacts > 10);
 }
 
 void TestSkipping::contactPushingIntoAFreeBodyIsNotMissed() {
@@ -247,6 +269,7 @@ void TestSkipping::contactPushingIntoAFreeBodyIsNotMissed() {
     // one step: that step is taken again with both, as step() does.
     Scene scene;
     scene.simulation.integrator = Integrator::Exact;
+    scene.simulation.time_of_impact = false;
     scene.robots.push_back(test::robotAt("a", 0.0, 0.0, M_PI / 4));
     scene.robots.push_back(test::robotAt("b", 0.106266, 0.0, M_PI / 4));
     scene.ball.x = -0.110383;
@@ -266,6 +289,26 @@ void TestSkipping::contactPushingIntoAFreeBodyIsNotMissed() {
     QVERIFY(maxStateDifference(oneCall.state(), reference.state()) < 1e-12);
     QVERIFY2(reference.state().robots[1].v != 0.0 || reference.state().robots[1].x != 0.106266,
              "the second robot was never hit: the scene does not test anything");
+    // At their instant the ball meets the first robot with no overlap to push
+    // apart, and step by step agrees with one call; against fixed steps of
+    // 10 us (contacts at most 10 us late) within 0.1 mm.
+    scene.simulation.time_of_impact = true;
+    Simulation stepwise(scene), whole(scene);
+    std::int64_t impacts = 0;
+    for (std::int64_t t = 1; t <= 40; ++t) impacts += stepwise.advanceTo(t).impacts;
+    whole.advanceTo(40);
+    QVERIFY(impacts >= 1);
+    QVERIFY2(maxStateDifference(stepwise.state(), whole.state()) < 1e-12,
+             qPrintable(QString::number(maxStateDifference(stepwise.state(), whole.state()))));
+    Scene fine = scene;
+    fine.simulation.long_steps = false;
+    fine.simulation.dt = 1e-5;
+    Simulation reference10us(fine);
+    reference10us.advanceTo(4000);
+    qInfo("second robot: v = %g m/s at its instant, %g m/s with steps of 10 us, %g m/s on the 1 ms grid",
+          whole.state().robots[1].v, reference10us.state().robots[1].v, reference.state().robots[1].v);
+    QVERIFY2(maxStateDifference(whole.state(), reference10us.state()) < 1e-4,
+             qPrintable(QString::number(maxStateDifference(whole.state(), reference10us.state()))));
 }
 
 void TestSkipping::longStepsCoverFreeFlightInFewSteps() {
@@ -296,6 +339,7 @@ void TestSkipping::freeBodiesTakeLongStepsBesideAContact() {
     scene.simulation.integrator = Integrator::Exact;
     scene.simulation.collision_model = CollisionModel::Impulse;
     scene.simulation.restitution = 0.0;  // no bounce: it stays against the wall
+    scene.simulation.time_of_impact = false;  // compared with fixed steps below
     scene.robots.push_back(test::robotAt("pusher", -0.6, 0.0, M_PI, 0.5));
     scene.robots.push_back(test::robotAt("free1", 0.3, 0.3, 0.5));
     scene.robots.push_back(test::robotAt("free2", 0.2, -0.3, 2.0));
@@ -327,6 +371,7 @@ void TestSkipping::kickedBallStillReachesAFrozenRobot() {
     // missed: the frozen robot catches up and steps from the kick on.
     Scene scene;
     scene.simulation.integrator = Integrator::Exact;
+    scene.simulation.time_of_impact = false;  // compared with fixed steps below
     scene.robots.push_back(test::robotAt("kicker", -0.1, 0.0, 0.0, 1.0));
     scene.robots.push_back(test::robotAt("target", 0.32, 0.0, 0.0));
     const double volts = 7.4 * 1.0 / steadyStateVelocity(makeRobotModel(RobotParams{}), {7.4, 7.4})(0);
@@ -346,6 +391,25 @@ void TestSkipping::kickedBallStillReachesAFrozenRobot() {
                             .arg(maxStateDifference(sim.state(), fixed.state()))
                             .arg(sim.state().robots[1].x)
                             .arg(fixed.state().robots[1].x)));
+    // With contacts at their instant the frozen target is replanned and hit
+    // all the same: against fixed steps of 10 us (contacts at most 10 us
+    // late), within 1 mm and less than half as far off as steps of 1 ms on
+    // the grid (measured: 0.44 mm against 1.9 mm).
+    scene.simulation.long_steps = true;
+    scene.simulation.time_of_impact = true;
+    Simulation atImpact(scene);
+    const AdvanceReport i = atImpact.advanceTo(300);
+    QVERIFY(i.replans >= 1 && i.impacts >= 2);
+    Scene fine = scene;
+    fine.simulation.long_steps = false;
+    fine.simulation.dt = 1e-5;
+    Simulation reference(fine);
+    reference.advanceTo(30000);
+    const double off = maxStateDifference(atImpact.state(), reference.state());
+    QVERIFY2(off < 1e-3 && off < 0.5 * maxStateDifference(fixed.state(), reference.state()),
+             qPrintable(QString("%1 m against %2 m on the grid")
+                            .arg(off)
+                            .arg(maxStateDifference(fixed.state(), reference.state()))));
 }
 
 void TestSkipping::restingBodiesStayBitIdentical() {

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vssim/collision_response.h"
 #include "vssim/geometry.h"
+#include "vssim/time_of_impact.h"
 #include "vssim/world.h"
 
 namespace vssim {
@@ -17,6 +19,18 @@ namespace {
 // doubling after each failure in a row up to the longest wait.
 constexpr std::int64_t kFirstRetryWait = 2;
 constexpr std::int64_t kLongestRetryWait = 16;
+
+// The search within a step runs on interpolated paths (time_of_impact.h),
+// whose points can move faster than the exact motion's bound by the
+// interpolation's error, O(h^5) relative; this slack covers it many times over.
+constexpr double kPathSpeedSlack = 1.0 + 1e-6;
+
+RobotState poseOf(const BallState& ball) {
+    RobotState p;
+    p.x = ball.x;
+    p.y = ball.y;
+    return p;
+}
 
 }  // namespace
 
@@ -94,6 +108,118 @@ std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_
     return 0;
 }
 
+RobotState Simulation::poseNow(const BodyRef& body) const {
+    if (body.kind == BodyKind::Robot) return state_.robots[body.index];
+    return body.kind == BodyKind::Ball ? poseOf(state_.ball) : RobotState{};
+}
+
+std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
+    const double dt = model_.settings.dt;
+    findBodyGaps(model_, state_, steppingRobots_, ballMoving, static_cast<double>(remaining) * dt, gaps_,
+                 gapScratch_);
+    std::int64_t steps = remaining;
+    for (const BodyGap& g : gaps_) {
+        if (!(g.gap > kContactSkin)) return -1;  // touching now (or NaN)
+        // Conservative advancement on the grid: no contact within gap / closing.
+        const double free = g.gap / (g.closing * dt);  // steps; +inf when nothing closes
+        if (!(free >= static_cast<double>(steps))) steps = free >= 0.0 ? static_cast<std::int64_t>(free) : 0;
+    }
+    return steps;
+}
+
+Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart, const StepOptions& options,
+                                              AdvanceReport& report) {
+    const double dt = model_.settings.dt;
+    const std::size_t n = state_.robots.size();
+    beforeStep_ = state_;
+    advanceBodies(dt, &steppingRobots_, ballMoving);  // the exact end of the step, no contacts yet
+    // The first instant within the step at which a gap closes, on the paths
+    // between the step's two exact ends.
+    paths_.resize(n);
+    pathReady_.assign(n, 0);
+    auto poseAt = [this](const BodyRef& body, double t) {
+        if (body.kind == BodyKind::Robot) return paths_[body.index].at(t);
+        if (body.kind == BodyKind::Ball) {
+            const Eigen::Vector2d c = ballPositionAfter(model_.ball, beforeStep_.ball, t);
+            RobotState p;
+            p.x = c.x();
+            p.y = c.y();
+            return p;
+        }
+        return RobotState{};
+    };
+    double first = dt;  // s into the step
+    bool touched = false;
+    for (const BodyGap& g : gaps_) {
+        if (g.gap > g.closing * dt) continue;  // cannot close within the step
+        for (const BodyRef& body : {g.a, g.b}) {
+            if (body.kind != BodyKind::Robot || pathReady_[body.index]) continue;
+            const int i = body.index;
+            paths_[i] = RobotPath(model_.robots[i], beforeStep_.robots[i], state_.robots[i], state_.voltages[i], dt);
+            pathReady_[i] = 1;
+        }
+        const auto gapAt = [&](double t) {
+            return separationBetween(model_, g.a, poseAt(g.a, t), g.b, poseAt(g.b, t)).distance;
+        };
+        // Only a contact before the earliest found so far matters.
+        const Advancement a = advanceConservatively(gapAt, g.closing * kPathSpeedSlack, 0.0, first);
+        if (a.touched) {
+            first = a.t;
+            touched = true;
+        } else if (!a.finished) {  // a grazing pass the search could not settle: a step on the grid
+            state_ = beforeStep_;
+            return ImpactStep::Unresolved;
+        }
+    }
+    if (!touched) return ImpactStep::Free;
+    // Again from the start, exactly to the instant of impact; there every
+    // gap that has closed is a contact, answered by the collision model as
+    // at any contact (its depth is zero: nothing to separate).
+    state_ = beforeStep_;
+    if (first > 0.0) advanceBodies(first, &steppingRobots_, ballMoving);
+    Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
+    for (const BodyGap& g : gaps_) {
+        if (g.gap > g.closing * dt) continue;
+        const Separation s = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
+        // (The exact state is within the paths' error of the searched one;
+        // an overlap, were there one, is left to the step's contact passes.)
+        if (s.overlapping || s.distance > 2.0 * kTouchDistance) continue;
+        Contact c;
+        c.a = g.a;
+        c.b = g.b;
+        c.normal = s.normal;
+        c.point = s.point;
+        respondToContact(c, bodies, model_.settings.collision_model, model_.settings.restitution);
+        ++report.contacts;
+        ++report.impacts;
+        if (!(report.firstImpact <= stepStart + first)) report.firstImpact = stepStart + first;
+    }
+    // The rest of the step as an ordinary one: contacts that persist (a
+    // robot pushing on) are found and resolved at its end, on the grid.
+    const StepReport rest = stepWorld(model_, state_, dt - first, options);
+    report.contacts += rest.contacts;
+    ++report.stepCalls;
+    return ImpactStep::Contact;
+}
+
+void Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
+    Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
+    for (const BodyGap& g : gaps_) {
+        if (g.gap > kContactSkin) continue;
+        const Separation s = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
+        if (s.overlapping) continue;  // the step's contact passes take it
+        Contact c;
+        c.a = g.a;
+        c.b = g.b;
+        c.normal = s.normal;
+        c.point = s.point;
+        if (!respondToContact(c, bodies, model_.settings.collision_model, model_.settings.restitution)) continue;
+        ++report.contacts;
+        ++report.impacts;
+        if (!(report.firstImpact <= now)) report.firstImpact = now;
+    }
+}
+
 AdvanceReport Simulation::advanceTo(std::int64_t target) {
     AdvanceReport report;
     const std::int64_t first = state_.step;
@@ -102,6 +228,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
     // Robots off the field take ordinary steps only (ordinaryStep leaves them out).
     const bool plan = model_.settings.integrator == Integrator::Exact && !anyOffField();
     const bool skip = plan && model_.settings.long_steps;
+    const bool impacts = skip && model_.settings.time_of_impact;  // contacts at their instant
     const double dt = model_.settings.dt;
     const std::size_t n = state_.robots.size();
     while (state_.step < target) {
@@ -110,7 +237,12 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         std::int64_t next = nextLoopStep(target);  // the loops' samples change voltages too
         if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
         const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
-        if (!plan || forceOrdinaryStep_) {
+        // After a replan: an ordinary step with everybody, or with contacts at
+        // their instant, a stretch in which nobody is frozen (an ordinary step
+        // would answer the contact on the grid, and the results would depend
+        // on where the calls are cut).
+        const bool nobodyFrozen = forceOrdinaryStep_ && impacts;
+        if (!plan || (forceOrdinaryStep_ && !impacts)) {
             forceOrdinaryStep_ = false;
             report.contacts += ordinaryStep().contacts;
             ++report.stepCalls;
@@ -118,6 +250,12 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         }
         const double horizon = static_cast<double>(stretch) * dt;  // s
         findFreeBodies(model_, state_, horizon, free_);
+        if (nobodyFrozen) {
+            forceOrdinaryStep_ = false;
+            free_.robots.assign(n, 0);
+            free_.ball = false;
+            free_.all = false;
+        }
         if (free_.all && skip) {  // nothing can touch anything: one step to the next voltage change
             advanceBodies(horizon, nullptr, true);
             finishStep(stretch);
@@ -126,7 +264,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         }
         const bool someFree =
             free_.ball || std::any_of(free_.robots.begin(), free_.robots.end(), [](char f) { return f != 0; });
-        if (!someFree) {
+        if (!someFree && !impacts) {
             // Everybody may touch something before the stretch ends, but maybe
             // not soon: try shorter steps of a power of two times dt (few step
             // lengths, so their tables stay cached), else one ordinary step.
@@ -198,11 +336,53 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
         bool stillSafe = true, touching = false;
         while (done < stretch && stillSafe) {
-            // The stepping bodies, too, may be free for a while (a robot
-            // nearing a wall, not yet at it): a long step of a power of two
-            // times dt for them. Not while touching; after a failed try, wait
-            // (twice as long after each failure in a row).
-            if (skip && !touching && done >= nextTry && stretch - done >= 2) {
+            // A step that may sub-step needs the frozen bodies' speeds now.
+            const auto prepareStep = [&] {
+                if (!(skip && frozenMayDecideSubsteps)) return;
+                const double elapsed = static_cast<double>(done) * dt;  // s into the stretch
+                frozenSpeeds(start, elapsed);
+                options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * elapsed);
+            };
+            if (impacts) {
+                // Conservative advancement (time_of_impact.h): as many whole
+                // steps as no gap can close in, in one step; when a gap may
+                // close within the next step, that step finds the instant.
+                const bool ballMoving = !options.freeBall;
+                const std::int64_t steps = gapSafeSteps(stretch - done, ballMoving);
+                if (steps >= 1) {
+                    advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, ballMoving);
+                    done += steps;
+                    ++report.longSteps;
+                    continue;
+                }
+                if (steps == 0) {
+                    prepareStep();
+                    const ImpactStep outcome = impactStep(ballMoving, static_cast<double>(state_.step + done) * dt, options, report);
+                    if (outcome == ImpactStep::Free) {
+                        ++done;
+                        ++report.longSteps;
+                        continue;
+                    }
+                    if (outcome == ImpactStep::Contact) {
+                        if (!frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+                            state_ = beforeStep_;  // as below: again with everybody
+                            stillSafe = false;
+                            forceOrdinaryStep_ = true;
+                            ++report.replans;
+                            break;
+                        }
+                        ++done;  // (the next step is on the grid while the bodies touch: gapSafeSteps)
+                        continue;
+                    }
+                }
+                // Touching now, or a pass the search could not settle: a step on
+                // the grid, after answering the touching pairs that approach.
+                if (steps < 0) answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
+            } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {
+                // The stepping bodies, too, may be free for a while (a robot
+                // nearing a wall, not yet at it): a long step of a power of two
+                // times dt for them. Not while touching; after a failed try, wait
+                // (twice as long after each failure in a row).
                 const std::int64_t steps = steppingFreeSteps(start, stretch - done);
                 if (steps >= 2) {
                     advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, !options.freeBall);
@@ -214,11 +394,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
                 nextTry = done + wait;
                 wait = std::min(2 * wait, kLongestRetryWait);
             }
-            if (skip && frozenMayDecideSubsteps) {
-                const double elapsed = static_cast<double>(done) * dt;  // s into the stretch
-                frozenSpeeds(start, elapsed);
-                options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * elapsed);
-            }
+            prepareStep();
             beforeStep_ = state_;
             const StepReport r = stepWorld(model_, state_, dt, options);
             // A contact may have sent a stepping body towards a free one (the

@@ -6,19 +6,22 @@
 // Simulation adds the scene's voltage-command schedule on top. Nothing here
 // reads a clock or keeps global state: the same scene, commands and calls
 // always give bit-identical states (advanceTo cut differently agrees with
-// step() to rounding).
+// itself to rounding; with step() too, but for the instants of contacts).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "vssim/body_gaps.h"
 #include "vssim/broad_phase.h"
 #include "vssim/contact.h"
 #include "vssim/exact_integrator.h"
 #include "vssim/free_bodies.h"
 #include "vssim/scene.h"
+#include "vssim/time_of_impact.h"
 #include "vssim/world_model.h"
 
 namespace vssim {
@@ -37,6 +40,8 @@ struct AdvanceReport {
     std::int64_t longSteps = 0;  // contact-free long steps (exact integrator), each several dt
     std::int64_t replans = 0;    // stretches planned again: a contact brought a body near a free one
     std::int64_t contacts = 0;   // contacts found, summed over the steps
+    std::int64_t impacts = 0;    // of those, answered at their time of impact (time_of_impact.h)
+    double firstImpact = NAN;    // s of simulated time: the earliest of those instants (NaN: none)
 };
 
 // Advances the state by h seconds under its current voltages: integrate every
@@ -88,9 +93,20 @@ public:
     // before the stretch ends: those take it in one step while the others
     // take steps of dt; when every body is free, the whole world takes one
     // step. A step whose contacts bring a body near a free one is undone and
-    // taken again with everybody. Long steps end on multiples of dt, so the
-    // contacts happen at the same steps as with step(), and the states agree
-    // with step() to rounding, however the calls are cut.
+    // taken again with everybody.
+    // With settings.time_of_impact (the default) the others do not take steps
+    // of dt either: conservative advancement on their gaps (body_gaps.h,
+    // time_of_impact.h) moves them as many whole steps as no gap can close
+    // in, and a step in which one may close finds the instant it does; the
+    // contact is answered there, and the rest of that step and the steps
+    // after it are ordinary ones until the bodies no longer touch (a robot
+    // pushing on a wall stays on the grid). The states then agree with
+    // step()'s to rounding until the first contact, which comes up to a step
+    // earlier: at its instant, not at the end of its step.
+    // Without it, long steps end on multiples of dt, so the contacts happen
+    // at the same steps as with step(), and the states agree with step() to
+    // rounding. Either way the results do not depend on how the calls are
+    // cut beyond rounding, and reruns are bit-identical.
     AdvanceReport advanceTo(std::int64_t target);
 
     // How many whole steps of dt (at most `wanted`) the bodies can move with
@@ -181,6 +197,22 @@ private:
     // The longest power-of-two number of steps (<= remaining, >= 2) that the
     // stepping bodies can take with no contact possible, or 0.
     std::int64_t steppingFreeSteps(const FrozenStart& start, std::int64_t remaining);
+    // With time_of_impact: how many whole steps (<= remaining) the stepping
+    // bodies can take before any of their gaps (gaps_, found here) could
+    // close; -1 when a gap is within kContactSkin now (bodies touching).
+    std::int64_t gapSafeSteps(std::int64_t remaining, bool ballMoving);
+    // One step of dt for the stepping bodies in which a gap of gaps_ may
+    // close: Free (none did: the step is taken), Contact (the step was taken
+    // with the contact answered at its instant; beforeStep_ holds its start),
+    // or Unresolved (the state is as before: take an ordinary step).
+    enum class ImpactStep { Free, Contact, Unresolved };
+    // The pairs of gaps_ within kContactSkin that approach are answered now
+    // (`now`: simulated time, s, for the report).
+    void answerTouchingGaps(double now, AdvanceReport& report);
+    // A body's pose in state_ (the ball's centre in x, y; a wall's is not used).
+    RobotState poseNow(const BodyRef& body) const;
+    // `stepStart`: the step's start in simulated time, s (for the report).
+    ImpactStep impactStep(bool ballMoving, double stepStart, const StepOptions& options, AdvanceReport& report);
 
     std::vector<ScheduledCommand> schedule_;  // sorted by step, stable (file order on ties)
     std::size_t nextCommand_ = 0;
@@ -194,7 +226,11 @@ private:
     std::vector<char> steppingRobots_;
     std::vector<double> frozenSpeed_;  // per robot, m/s (frozen ones only)
     WorldState beforeStep_;            // to undo a step that reached a frozen body
-    bool forceOrdinaryStep_ = false;   // the next step takes every body
+    bool forceOrdinaryStep_ = false;   // the next step (with time_of_impact: stretch) takes every body
+    std::vector<BodyGap> gaps_;        // gapSafeSteps' gaps, used by impactStep
+    BodyGapScratch gapScratch_;
+    std::vector<RobotPath> paths_;     // impactStep's robot paths over its step
+    std::vector<char> pathReady_;
 };
 
 }  // namespace vssim
