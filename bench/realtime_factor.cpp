@@ -63,7 +63,7 @@ int realtimeFactor(const Options& options, std::ostream& out, std::ostream& log)
             out << '"' << scenario.name << "\",\"" << s.name << "\"," << scene.simulation.dt << ',' << duration << ','
                 << t.median << ',' << duration / t.median << ',' << totals.stepCalls << ',' << totals.longSteps << ','
                 << totals.contacts << ',' << t.runs << '\n';
-            log << "  " << std::setw(20) << s.name << "  " << std::setw(9) << duration / t.median << "x real time  ("
+            log << "  " << std::setw(27) << s.name << "  " << std::setw(9) << duration / t.median << "x real time  ("
                 << t.median * 1e3 << " ms for " << duration << " s; " << totals.stepCalls << " steps of dt, "
                 << totals.longSteps << " long steps, " << totals.contacts << " contacts)\n";
         }
