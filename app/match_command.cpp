@@ -316,7 +316,7 @@ QString matchHelpText() {
                "SCENE is a scene file (JSON, docs/scenes.md) or a built-in scene name, on a field\n"
                "with goals; its robots start on the referee's kick-off spots and its voltage commands\n"
                "are ignored (the teams drive). Without SCENE: the official 3 vs 3 field (1.50 x 1.30 m)\n"
-               "with three default robots per team, RK4 at 1 ms.\n"
+               "with three default robots per team, the exact integrator at 1 ms (the default).\n"
                "\n"
                "Options:\n"
                "  --halves N            halves to play, 1 to %1 (default: the scene's, 2)\n"

@@ -18,6 +18,7 @@ Scene defaultMatchScene(TeamControl yellow, TeamControl blue) {
     Scene scene;
     scene.field = makeField(officialDimensions(FieldType::Vsss3v3));
     scene.ball = BallState{0.0, 0.0, 0.0, 0.0};
+    scene.simulation.integrator = Integrator::Exact;  // as kickoff_3v3.json says, whatever the default
     // The shipped kick-off's layout (resources/scenes/kickoff_3v3.json).
     const struct { double x, y; } yellowSpots[] = {{-0.68, 0.0}, {-0.35, 0.25}, {-0.2, -0.1}};
     for (Team team : {Team::Yellow, Team::Blue}) {

@@ -10,10 +10,10 @@
 namespace vssim {
 
 // The official 3 vs 3 field (1.50 x 1.30 m with goals), three default robots
-// per team, the ball at the centre, RK4 at 1 ms, the referee on with the
-// default rules (two halves of 300 s), both teams as given. Its robots start
-// roughly in a kick-off layout; a Match with the referee on puts them on the
-// referee's kick-off spots anyway.
+// per team, the ball at the centre, the exact integrator at 1 ms (as the
+// shipped kickoff_3v3), the referee on with the default rules (two halves of
+// 300 s), both teams as given. Its robots start roughly in a kick-off layout;
+// a Match with the referee on puts them on the referee's kick-off spots anyway.
 Scene defaultMatchScene(TeamControl yellow, TeamControl blue);
 
 // Plays `match` (fresh: stopped for the first kick-off) until full time

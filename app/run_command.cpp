@@ -63,7 +63,7 @@ std::optional<RunOptions> parseRunOptions(const QStringList& arguments, QString*
     const QCommandLineOption help({"h", "help"}, "Show this help.");
     const QCommandLineOption duration("duration", "Simulated time to run, s (required).", "S");
     const QCommandLineOption dt("dt", "Integration step, s (default: the scene's, 0.001).", "S");
-    const QCommandLineOption integrator("integrator", "euler, rk4 or exact (default: the scene's, rk4).", "NAME");
+    const QCommandLineOption integrator("integrator", "euler, rk4 or exact (default: the scene's, exact).", "NAME");
     const QCommandLineOption collision("collision-model", "paper or impulse (default: the scene's, paper).", "NAME");
     const QCommandLineOption sample("sample", "Time between CSV samples, s (default: dt).", "S");
     const QCommandLineOption out("out", "Write the CSV to FILE instead of standard output.", "FILE");
@@ -237,9 +237,10 @@ QString runHelpText() {
                "Options:\n"
                "  --duration S            simulated time to run, s (required)\n"
                "  --dt S                  integration step, s, 1e-6 <= S <= 0.1 (default: the scene's, 0.001)\n"
-               "  --integrator NAME       euler | rk4 | exact (default: the scene's, rk4); exact solves the\n"
+               "  --integrator NAME       euler | rk4 | exact (default: the scene's, exact); exact solves the\n"
                "                          motor dynamics in closed form and, between voltage changes and\n"
-               "                          away from contacts, steps straight to the next sample\n"
+               "                          away from contacts, steps straight to the next sample; euler\n"
+               "                          and rk4 are the paper's fixed-step methods\n"
                "  --collision-model NAME  paper | impulse (default: the scene's, paper)\n"
                "  --sample S              time between samples, s, >= dt (default: dt)\n"
                "  --referee on|off        the scene's automatic referee on or off (docs/game.md; on needs a\n"

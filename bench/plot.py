@@ -21,10 +21,16 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+# What a scene gets without "integrator" or "dt" (engine/include/vssim/scene.h):
+# the exact integrator with long steps at 1 ms.
+DEFAULT = ("exact", 0.001)
+
+
 def work_precision(rows, out):
     fig, ax = plt.subplots(figsize=(7, 5))
     styles = {"euler": "o-", "rk4": "s-", "exact-fixed": "^-", "exact": "D-"}
     labels = {"euler": "Euler", "rk4": "RK4", "exact-fixed": "exact, fixed steps", "exact": "exact, long steps"}
+    labels[DEFAULT[0]] += " (default)"
     floor = 1e-15  # m: errors at rounding level are drawn here
     for name, style in styles.items():
         mine = [r for r in rows if r["integrator"] == name]
@@ -33,6 +39,10 @@ def work_precision(rows, out):
         seconds = [float(r["run_time_s"]) / 10.0 for r in mine]  # per simulated second
         errors = [max(floor, float(r["max_position_error_m"])) for r in mine]
         ax.loglog(seconds, errors, style, label=labels[name])
+        for r, x, y in zip(mine, seconds, errors):
+            if name == DEFAULT[0] and float(r["dt_s"]) == DEFAULT[1]:
+                ax.plot(x, y, "o", ms=14, mfc="none", mec="red", mew=1.5)
+                ax.annotate("default (1 ms)", (x, y), fontsize=8, color="red", xytext=(9, 7), textcoords="offset points")
         if name == "exact":  # every step gives the same run: one label
             ax.annotate("any step", (seconds[0], errors[0]), fontsize=6, xytext=(3, -9), textcoords="offset points")
             continue

@@ -64,6 +64,13 @@ std::string label(const Config& c) {
     return c.integrator == Integrator::Euler ? "euler" : "rk4";
 }
 
+// Whether `c` is what a scene gets by default (the exact integrator with long
+// steps at 1 ms), for the printed summary; plot.py marks it in the figure.
+bool isDefault(const Config& c) {
+    const SimulationSettings defaults;
+    return c.integrator == defaults.integrator && c.longSteps == defaults.long_steps && c.dt == defaults.dt;
+}
+
 }  // namespace
 
 int workPrecision(const Options& options, std::ostream& out, std::ostream& log) {
@@ -94,7 +101,8 @@ int workPrecision(const Options& options, std::ostream& out, std::ostream& log) 
                     << t.runs << '\n';
                 log << "  " << std::setw(11) << label(c) << "  dt " << std::setw(7) << dt * 1e3 << " ms  error "
                     << std::setw(10) << error << " m  " << std::setw(9) << t.median * 1e3 << " ms per 10 s  ("
-                    << std::setw(8) << kDuration / t.median << "x real time)\n";
+                    << std::setw(8) << kDuration / t.median << "x real time)" << (isDefault(c) ? "  (default)" : "")
+                    << '\n';
             }
         }
     }

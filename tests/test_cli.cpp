@@ -44,7 +44,8 @@ struct stat statOf(const QString& path) {
 
 // A robot within every documented range whose motors are far too stiff for
 // RK4 at 10 ms (time constant 3e-15 s): its state overflows within two steps.
-const char* kRunawayScene = R"({"simulation": {"dt": 0.01}, "ball": {"x": 0.5},
+// (RK4 named: the default, exact, is stable for it.)
+const char* kRunawayScene = R"({"simulation": {"integrator": "rk4", "dt": 0.01}, "ball": {"x": 0.5},
     "robots": [{"name": "wild", "params": {"mass": 0.01, "inertia": 1e-7,
         "right": {"resistance": 0.001, "k": 100, "rotor_inertia": 0},
         "left": {"resistance": 0.001, "k": 100, "rotor_inertia": 0}}}],
@@ -111,7 +112,10 @@ void TestCli::csvHasHeaderAndOneRowPerBodyPerSample() {
     QVERIFY(lines.last().startsWith("0.10000000000000001,ball,"));  // 100 * 0.001 printed to 17 digits
     QCOMPARE(lines.last().count(','), 12);  // ball rows keep every column, robot-only ones empty
     QVERIFY(lines.last().endsWith(",,,,,,,"));
-    QVERIFY(r.err.contains("100 steps"));  // the summary goes to standard error
+    // The summary goes to standard error (the kick-off's exact integrator
+    // takes long steps: while the game is stopped, a tick of 10 ms each).
+    QVERIFY2(r.err.contains("vssim run: 0.1 s simulated in ") && r.err.contains(" long steps (exact)"),
+             r.err.constData());
 }
 
 void TestCli::finalStateAlwaysWritten() {
@@ -137,8 +141,12 @@ void TestCli::csvRoundTripsTheEngineState() {
     QString error;
     const std::optional<Scene> scene = loadSceneFile(sceneFile("robot_hits_ball.json"), &error);
     QVERIFY2(scene, qPrintable(error));
+    // Advanced as vssim run does, one advanceTo per sample: the scene's
+    // integrator (exact, the default) takes long steps, which agree with
+    // step() only to rounding.
     Simulation sim(*scene);
-    while (sim.state().step < 500) sim.step();
+    sim.advanceTo(250);
+    sim.advanceTo(500);
     const QList<QByteArray> lines = r.out.trimmed().split('\n');
     const QList<QByteArray> robotRow = lines[lines.size() - 1 - static_cast<int>(scene->robots.size())].split(',');
     QCOMPARE(robotRow[1], QByteArray(scene->robots[0].name.c_str()));
@@ -153,15 +161,23 @@ void TestCli::csvRoundTripsTheEngineState() {
 
 void TestCli::optionsOverrideTheScene() {
     const QStringList base{"run", sceneFile("robot_hits_ball.json"), "--duration", "0.3", "--sample", "0.3"};
-    const Result rk4 = runVssim(base);
+    const Result scenes = runVssim(base);  // the scene's integrator: the default, exact
     const Result again = runVssim(base);
     const Result euler = runVssim(base + QStringList{"--integrator", "euler"});
+    const Result rk4 = runVssim(base + QStringList{"--integrator", "rk4"});
     const Result coarse = runVssim(base + QStringList{"--dt", "0.002"});
-    QCOMPARE(rk4.exitCode, 0);
-    QCOMPARE(again.out, rk4.out);  // deterministic
-    QVERIFY(euler.out != rk4.out);
-    QVERIFY(coarse.out != rk4.out);
+    const Result coarseRk4 = runVssim(base + QStringList{"--integrator", "rk4", "--dt", "0.002"});
+    QCOMPARE(scenes.exitCode, 0);
+    QCOMPARE(again.out, scenes.out);  // deterministic
+    QVERIFY(euler.out != scenes.out);
+    QVERIFY(rk4.out != scenes.out);
+    // Before the robot reaches the ball exact's result does not depend on dt
+    // (the point of it): the summary shows the new step; RK4's result changes.
+    QVERIFY2(coarse.err.contains("steps of 0.002 s"), coarse.err.constData());
+    QVERIFY(coarseRk4.out != rk4.out);
+    QVERIFY(scenes.err.contains("exact"));
     QVERIFY(euler.err.contains("euler"));
+    QVERIFY(rk4.err.contains("rk4"));
 }
 
 void TestCli::builtinSceneByName() {
@@ -291,8 +307,9 @@ void TestCli::noArgumentsRunsTheDemo() {
 }
 
 void TestCli::warnsWhenTheStepIsUnstable() {
-    // The stiff robot's fastest time constant is 36 us: RK4 at 1 ms is ten
-    // times past its limit (101 us) and says so; exact, or RK4 at 50 us, does not.
+    // The stiff robot's fastest time constant is 36 us: RK4 at 1 ms (its scene's
+    // integrator) is ten times past its limit (101 us) and says so; exact, or
+    // RK4 at 50 us, does not.
     const Result rk4 = runVssim({"run", "stiff_robot", "--duration", "0.01"});
     QCOMPARE(rk4.exitCode, 0);
     // The limit, from A's eigenvalues found by Eigen's solver (independent of
@@ -324,7 +341,7 @@ void TestCli::warnsWhenTheBallIsUnstable() {
     // ms). At 1 ms the ball went from 1 m/s to 1,100 m/s without a word.
     QTemporaryDir dir;
     const QString scene = dir.filePath("sticky.json");
-    writeFile(scene, R"({"ball": {"vx": 1, "friction": 200}})");
+    writeFile(scene, R"({"simulation": {"integrator": "rk4"}, "ball": {"vx": 1, "friction": 200}})");
     const double rate = 200 / 0.046;  // 1/s
     const Result rk4 = runVssim({"run", scene, "--duration", "0.01"});
     QCOMPARE(rk4.exitCode, 0);
@@ -344,6 +361,12 @@ void TestCli::warnsWhenTheBallIsUnstable() {
         QCOMPARE(quiet.exitCode, 0);
         QVERIFY2(!quiet.err.contains("warning"), quiet.err.constData());
     }
+    // The same ball in a scene that names no integrator gets the default, exact: no warning.
+    const QString byDefault = dir.filePath("sticky_default.json");
+    writeFile(byDefault, R"({"ball": {"vx": 1, "friction": 200}})");
+    const Result quiet = runVssim({"run", byDefault, "--duration", "0.01"});
+    QCOMPARE(quiet.exitCode, 0);
+    QVERIFY2(!quiet.err.contains("warning") && quiet.err.contains("(exact)"), quiet.err.constData());
 }
 
 void TestCli::outWritesADeviceInPlace() {
@@ -539,10 +562,13 @@ void TestCli::runPlaysTheScenesGame() {
         if (row.contains(",yellow2,")) (first.isEmpty() ? first : last) = row;
     QVERIFY(!first.isEmpty() && !last.isEmpty() && first.split(',')[2] != last.split(',')[2]);
     // The same final state whatever the sampling (RK4: fixed steps; the game
-    // acts at its ticks only).
-    const Result coarse = runVssim({"run", "kickoff_3v3", "--duration", "8", "--sample", "2"});
+    // acts at its ticks only). RK4 named: the kick-off's own integrator, exact,
+    // takes long steps that depend on the samples and agrees only to rounding.
+    const Result fine = runVssim({"run", "kickoff_3v3", "--duration", "8", "--sample", "0.5", "--integrator", "rk4"});
+    const QList<QByteArray> fineRows = fine.out.trimmed().split('\n');
+    const Result coarse = runVssim({"run", "kickoff_3v3", "--duration", "8", "--sample", "2", "--integrator", "rk4"});
     const QList<QByteArray> coarseRows = coarse.out.trimmed().split('\n');
-    QCOMPARE(coarseRows.mid(coarseRows.size() - 7), rows.mid(rows.size() - 7));
+    QCOMPARE(coarseRows.mid(coarseRows.size() - 7), fineRows.mid(fineRows.size() - 7));
     // Without the referee: no game line.
     const Result off = runVssim({"run", "kickoff_3v3", "--duration", "1", "--referee", "off"});
     QCOMPARE(off.exitCode, 0);

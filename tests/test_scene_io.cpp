@@ -43,6 +43,7 @@ private slots:
     void inertiaDefaultsToUniformCubeAfterOverrides();
     void namesDefaultPerTeam();
     void roundTripIsExact();
+    void everyIntegratorRoundTrips();
     void badInput_data();
     void badInput();
     void surrogatePairNameIsKept();
@@ -74,7 +75,7 @@ void TestSceneIo::emptySceneHasModelDefaults() {
     QCOMPARE(s.field.walls.size(), std::size_t(4));
     QCOMPARE(s.field.dimensions.type, FieldType::Box);
     QCOMPARE(s.simulation.dt, 0.001);
-    QCOMPARE(s.simulation.integrator, Integrator::Rk4);
+    QCOMPARE(s.simulation.integrator, Integrator::Exact);  // the default since it beat RK4 (docs/scenes.md)
     QCOMPARE(s.simulation.collision_model, CollisionModel::Paper);
     QCOMPARE(s.ball_params.mass, 0.046);
     QCOMPARE(s.ball_params.radius, 0.02135);
@@ -175,6 +176,25 @@ void TestSceneIo::roundTripIsExact() {
     QCOMPARE(b.params.left.resistance, 12.7);
     QCOMPARE(back->commands[0].t, s.commands[0].t);
     QCOMPARE(back->commands[0].voltages.left, s.commands[0].voltages.left);
+}
+
+void TestSceneIo::everyIntegratorRoundTrips() {
+    // A written scene names its integrator, so it reads back the same whatever
+    // the default: RK4 stays RK4 although a file without the key gets exact.
+    QCOMPARE(parseOk(R"({"simulation": {"dt": 0.001}})").simulation.integrator, Integrator::Exact);
+    for (const Integrator integrator : {Integrator::Euler, Integrator::Rk4, Integrator::Exact}) {
+        Scene s;
+        s.simulation.integrator = integrator;
+        const QByteArray json = sceneToJson(s);
+        const QJsonObject simulation = QJsonDocument::fromJson(json).object()["simulation"].toObject();
+        QCOMPARE(simulation["integrator"].toString(), integratorName(integrator));
+        QString error;
+        const std::optional<Scene> back = parseScene(json, &error);
+        QVERIFY2(back, qPrintable(error));
+        QCOMPARE(back->simulation.integrator, integrator);
+        const QString named = QStringLiteral(R"({"simulation": {"integrator": "%1"}})").arg(integratorName(integrator));
+        QCOMPARE(parseOk(named.toUtf8()).simulation.integrator, integrator);
+    }
 }
 
 void TestSceneIo::badInput_data() {
@@ -461,6 +481,17 @@ void TestSceneIo::exampleScenesLoad() {
     // The physics scenes have no game.
     QVERIFY(!loadSceneFile(dir.filePath("robot_hits_ball.json"), &error)->game.rules.referee);
     QCOMPARE(loadSceneFile(dir.filePath("paper_fig13.json"), &error)->field.dimensions.type, FieldType::Box);
+    // Integrators (docs/scenes.md, "Built-in scenes"): the game scenes take the
+    // default, exact; the paper's experiment keeps the paper's Euler at 1 ms;
+    // the stiff robot shows RK4's stability limit.
+    QCOMPARE(kickoff.simulation.integrator, Integrator::Exact);
+    QCOMPARE(versus.simulation.integrator, Integrator::Exact);
+    const Scene figure13 = *loadSceneFile(dir.filePath("paper_fig13.json"), &error);
+    QCOMPARE(figure13.simulation.integrator, Integrator::Euler);
+    QCOMPARE(figure13.simulation.dt, 0.001);
+    QCOMPARE(loadSceneFile(dir.filePath("stiff_robot.json"), &error)->simulation.integrator, Integrator::Rk4);
+    for (const char* name : {"ball_walls.json", "robot_hits_ball.json", "robots_collide.json", "speed_step.json"})
+        QCOMPARE(loadSceneFile(dir.filePath(name), &error)->simulation.integrator, Integrator::Exact);
 }
 
 // The official dimensions, written out here from the shared rules (vsss-game.md,

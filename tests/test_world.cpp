@@ -122,6 +122,7 @@ void TestWorld::freeRobotMatchesIntegrator() {
     scene.robots.push_back(test::robotAt("a", -0.2, 0, 0.3));
     scene.robots[0].params = test::asymmetricParams();
     scene.commands.push_back({0.0, 0, {2.0, 1.5}});
+    scene.simulation.integrator = Integrator::Rk4;  // the one it is compared with below
     Simulation sim(scene);
     RobotState alone = scene.robots[0].initial;
     const RobotModel m = makeRobotModel(scene.robots[0].params);
