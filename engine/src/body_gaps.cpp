@@ -39,7 +39,7 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     double fastest = 0.0;  // m/s
     for (std::size_t i = 0; i < n; ++i) {
         if (!movingRobots[i]) continue;
-        speed[i] = pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]);
+        speed[i] = pointSpeedBoundWithin(model.robots[i], state.robots[i], state.voltages[i], horizon);
         fastest = std::max(fastest, speed[i]);
     }
     if (ballMoving) speed[n] = std::hypot(state.ball.vx, state.ball.vy);
@@ -79,6 +79,8 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
         if (clearOfWalls(model.field, c, reach(i) + travel)) continue;
         for (std::size_t w = 0; w < model.field.walls.size(); ++w) {
             const Wall& wall = model.field.walls[w];
+            // Far in front of the wall's line (cheap), or far from the segment.
+            if (wall.normal.dot(c - wall.a) - reach(i) > travel) continue;
             if (closestPointOnSegment(wall.a, wall.b, c).distance - reach(i) > travel) continue;
             const BodyRef wallRef{BodyKind::Wall, int(w)};
             const Separation s = separationBetween(model, ref(i), pose(i), wallRef, RobotState{});

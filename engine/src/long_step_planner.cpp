@@ -148,6 +148,16 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         }
         return RobotState{};
     };
+    // How fast each gap can close within this step: from the bodies' speed
+    // bounds over the step alone (not over the rest of the stretch, which
+    // depends on where the call ends: the search must not).
+    auto speedWithinStep = [&](const BodyRef& body) {
+        if (body.kind == BodyKind::Robot)
+            return pointSpeedBoundWithin(model_.robots[body.index], beforeStep_.robots[body.index],
+                                         state_.voltages[body.index], dt);
+        return body.kind == BodyKind::Ball ? std::hypot(beforeStep_.ball.vx, beforeStep_.ball.vy) : 0.0;
+    };
+    for (BodyGap& g : gaps_) g.closing = speedWithinStep(g.a) + speedWithinStep(g.b);
     double first = dt;  // s into the step
     bool touched = false;
     for (const BodyGap& g : gaps_) {

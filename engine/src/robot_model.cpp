@@ -105,6 +105,21 @@ double pointSpeedBound(const RobotModel& model, const RobotState& state, const V
     return bound(0) + boundingRadius(model.params.side) * bound(1);
 }
 
+double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
+    const Eigen::Vector2d u0(state.v, state.omega);
+    const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    Eigen::Vector2d bound = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 2; ++k) {
+        // The mode's share goes along a segment from P_k u0 towards P_k u_inf
+        // and has covered the fraction 1 - e^(rate_k T) of it at T.
+        const Eigen::Vector2d start = model.modeProjector[k] * u0, end = model.modeProjector[k] * target;
+        const double covered = -std::expm1(model.modeRate[k] * T);  // in [0, 1)
+        bound += start.cwiseAbs().cwiseMax((start + covered * (end - start)).cwiseAbs());
+    }
+    const double speed = bound(0) + boundingRadius(model.params.side) * bound(1);
+    return std::isfinite(speed) ? speed : INFINITY;
+}
+
 double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm) {
     const double rho = arm;  // m
     const Eigen::Vector2d u0(state.v, state.omega);

@@ -20,7 +20,7 @@ struct BodyGap {
     BodyRef a;
     BodyRef b;
     double gap = 0.0;      // m, now
-    double closing = 0.0;  // m/s: the fastest the gap can shrink from now on under the current voltages
+    double closing = 0.0;  // m/s: the fastest the gap can shrink within the horizon under the current voltages
 };
 
 struct BodyGapScratch {

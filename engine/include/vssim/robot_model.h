@@ -57,6 +57,12 @@ Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, 
 // A bound on the speed of every point of the robot, |v| + |w| s/sqrt2, m/s,
 // at every time t >= 0 under the same conditions (from velocityBound).
 double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e);
+// The same bound over [0, T] only, m/s: each mode's share lies between its
+// start and where it is at T, so |u_j(t)| <= sum_k max(|(P_k u0)_j|,
+// |(P_k u(T))_j|) for t <= T. Much tighter than pointSpeedBound over a
+// millisecond for a robot far from its steady state (under new voltages).
+// Infinite when the state or the model is not finite.
+double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
 
 // A bound on how far a point of the robot at distance `arm` (m) from its
 // centre can move within T seconds while the voltages stay e and nothing
