@@ -162,6 +162,11 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     bool touched = false;
     for (const BodyGap& g : gaps_) {
         if (g.gap > g.closing * dt) continue;  // cannot close within the step
+        // Nor when the gaps at both ends are too wide for the step: a contact
+        // at s would need gap(0) <= S s and gap(h) <= S (h - s). (Most steps
+        // searched are near misses: a robot along a wall, two passing by.)
+        const Separation atEnd = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
+        if (g.gap + atEnd.distance > g.closing * kPathSpeedSlack * dt) continue;
         for (const BodyRef& body : {g.a, g.b}) {
             if (body.kind != BodyKind::Robot || pathReady_[body.index]) continue;
             const int i = body.index;
