@@ -61,12 +61,18 @@ def work_precision(rows, out):
 
 def scale(rows, out):
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for flag, style, label in (("on", "o-", "broad phase on"), ("off", "s--", "broad phase off (all pairs)")):
-        mine = [r for r in rows if r["broad_phase"] == flag]
-        ax.loglog([int(r["robots"]) for r in mine], [float(r["us_per_robot_per_simulated_s"]) for r in mine], style, label=label)
+    series = (("rk4", "on", "o-", "RK4 1 ms, broad phase on"),
+              ("rk4", "off", "s--", "RK4 1 ms, broad phase off (all pairs)"),
+              ("exact, long steps (default)", "on", "^-", "exact, long steps, contacts at their instant (default)"))
+    for setting, flag, style, label in series:
+        # (CSV files from before the setting column hold RK4 rows only.)
+        mine = [r for r in rows if r["broad_phase"] == flag and r.get("setting", "rk4") == setting]
+        if mine:
+            ax.loglog([int(r["robots"]) for r in mine], [float(r["us_per_robot_per_simulated_s"]) for r in mine],
+                      style, label=label)
     ax.set_xlabel("robots")
     ax.set_ylabel("run time per robot per simulated second [us]")
-    ax.set_title("Scale (RK4, 1 ms, the 3-vs-3 density)")
+    ax.set_title("Scale (random voltages every 30 ms, the 3-vs-3 density)")
     ax.grid(True, which="both", lw=0.3)
     ax.legend()
     fig.tight_layout()
