@@ -33,6 +33,7 @@
 #include <functional>
 #include <iomanip>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -110,6 +111,12 @@ public:
         return b2Dot(b->GetWorldVector(b2Vec2(1.0f, 0.0f)), b->GetLinearVelocity()) / kUnitsPerMetre;
     }
     double yawRate(int i) const { return robots_[i].body->GetAngularVelocity(); }
+    int robotCount() const { return static_cast<int>(robots_.size()); }
+    // The ball's centre, m.
+    Eigen::Vector2d ballPosition() const {
+        const b2Vec2 p = ball_->GetPosition();
+        return {p.x / kUnitsPerMetre, p.y / kUnitsPerMetre};
+    }
 
     std::int64_t contactsBegun() const { return contacts_.count; }
 
@@ -261,9 +268,10 @@ std::vector<Due> schedule(const Scene& scene) {
 }
 
 // Runs the scene in Box2D to step `end`, frame by frame (30 ms) as vssim's
-// runs are advanced; calls `sample` after every step.
-std::int64_t runBox2d(const Scene& scene, std::int64_t end, const std::function<void(const Box2dWorld&)>& sample = {},
-                      int* offFloor = nullptr) {
+// runs are advanced; calls `sample` after every step with the number of
+// steps taken.
+std::int64_t runBox2d(const Scene& scene, std::int64_t end,
+                      const std::function<void(const Box2dWorld&, std::int64_t)>& sample = {}, int* offFloor = nullptr) {
     const double dt = scene.simulation.dt;
     const std::vector<Due> due = schedule(scene);
     Box2dWorld world(scene);
@@ -273,7 +281,7 @@ std::int64_t runBox2d(const Scene& scene, std::int64_t end, const std::function<
         for (std::int64_t k = frameEnd - perFrame; k < std::min(frameEnd, end); ++k) {
             for (; next < due.size() && due[next].step <= k; ++next) world.setVoltages(due[next].robot, due[next].e);
             world.step(dt);
-            if (sample) sample(world);
+            if (sample) sample(world, k + 1);
         }
     if (offFloor) *offFloor = world.bodiesOffFloor(scene.field);
     return world.contactsBegun();
@@ -343,7 +351,7 @@ Sanity sanityBox2d(const Scene& from, double dt) {
         Scene scene = sanityScene(from, {e, spin ? -e : e});
         scene.simulation.dt = dt;
         std::vector<double> samples;
-        runBox2d(scene, Simulation::stepIndexAtOrAfter(1.5, dt), [&](const Box2dWorld& w) {
+        runBox2d(scene, Simulation::stepIndexAtOrAfter(1.5, dt), [&](const Box2dWorld& w, std::int64_t) {
             samples.push_back(spin ? w.yawRate(0) : w.forwardSpeed(0));
         });
         (spin ? s.yaw : s.speed) = stepResponse(samples, dt);
@@ -367,6 +375,56 @@ Sanity sanityVssim(const Scene& from, const SimulationSettings& settings) {
     return s;
 }
 
+// What the bodies did in the benchmark's scene, sampled at every frame
+// (30 ms): the robots' mean forward speed (m/s, the mean of |v|) and the
+// ball's path length (m, frame to frame). Chaos makes the runs of two
+// engines part after the first contacts; these show that the two do the
+// same kind of work.
+struct Activity {
+    double meanRobotSpeed = 0.0;
+    double ballTravel = 0.0;
+};
+struct ActivityAccumulator {
+    Activity a;
+    std::int64_t samples = 0;
+    Eigen::Vector2d lastBall;
+    explicit ActivityAccumulator(const Scene& scene) : lastBall(scene.ball.x, scene.ball.y) {}
+    void add(const std::vector<double>& speeds, const Eigen::Vector2d& ball) {
+        for (double v : speeds) a.meanRobotSpeed += std::abs(v);
+        samples += static_cast<std::int64_t>(speeds.size());
+        a.ballTravel += (ball - lastBall).norm();
+        lastBall = ball;
+    }
+    Activity result() const {
+        Activity r = a;
+        if (samples > 0) r.meanRobotSpeed /= static_cast<double>(samples);
+        return r;
+    }
+};
+Activity activityBox2d(const Scene& scene, std::int64_t end) {
+    ActivityAccumulator acc(scene);
+    const std::int64_t perFrame = Simulation::stepIndexAtOrAfter(kFramePeriod, scene.simulation.dt);
+    runBox2d(scene, end, [&](const Box2dWorld& w, std::int64_t k) {
+        if (k % perFrame != 0 && k != end) return;
+        std::vector<double> speeds;
+        for (int i = 0; i < w.robotCount(); ++i) speeds.push_back(w.forwardSpeed(i));
+        acc.add(speeds, w.ballPosition());
+    });
+    return acc.result();
+}
+Activity activityVssim(const Scene& scene, std::int64_t end) {
+    ActivityAccumulator acc(scene);
+    Simulation sim(scene);
+    const std::int64_t perFrame = Simulation::stepIndexAtOrAfter(kFramePeriod, scene.simulation.dt);
+    for (std::int64_t k = perFrame; k < end + perFrame; k += perFrame) {
+        sim.advanceTo(std::min(k, end));
+        std::vector<double> speeds;
+        for (const RobotState& r : sim.state().robots) speeds.push_back(r.v);
+        acc.add(speeds, Eigen::Vector2d(sim.state().ball.x, sim.state().ball.y));
+    }
+    return acc.result();
+}
+
 }  // namespace
 
 int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) {
@@ -380,41 +438,52 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
     struct Setting {
         const char* name;
         bool box2d;
-        Integrator integrator;
-        bool longSteps;
         Scene scene;
-        std::vector<double> roundMedians;  // s
+        std::vector<double> roundMedians = {};  // s
         int runs = 0;
-        AdvanceReport report;  // vssim: steps and contacts of the last run
+        AdvanceReport report = {};  // vssim: steps and contacts of the last timed run
         std::int64_t contacts = 0;
-        Sanity sanity;
+        Sanity sanity = {};
+        Activity activity = {};
+    };
+    auto withIntegrator = [&](Integrator integrator, bool longSteps) {
+        Scene s = scene;
+        s.simulation.dt = dt;
+        s.simulation.integrator = integrator;
+        s.simulation.long_steps = longSteps;
+        return s;
     };
     std::vector<Setting> settings;
-    settings.push_back({"box2d 2.4 1 ms", true, Integrator::Rk4, false, scene});
-    settings.push_back({"vssim rk4 1 ms", false, Integrator::Rk4, false, scene});
-    settings.push_back({"vssim exact long steps", false, Integrator::Exact, true, scene});
-    for (Setting& s : settings) {
-        s.scene.simulation.dt = dt;
-        s.scene.simulation.integrator = s.integrator;
-        s.scene.simulation.long_steps = s.longSteps;
-    }
+    settings.push_back({"box2d 2.4 1 ms", true, withIntegrator(Integrator::Rk4, false)});  // (the integrator unused)
+    settings.push_back({"vssim rk4 1 ms", false, withIntegrator(Integrator::Rk4, false)});
+    settings.push_back({"vssim exact long steps", false, withIntegrator(Integrator::Exact, true)});
 
-    // The sanity check first: the same robot in each engine.
+    // The sanity check first: the same robot in each engine, beside the
+    // closed forms of model.md §2 (M and B are diagonal for a robot whose
+    // two sides match: two first-order lags).
     const RobotModel model = makeRobotModel(scene.robots[0].params);
     const double eMax = scene.robots[0].params.max_voltage;
-    log << std::setprecision(4) << "  sanity check: " << scene.robots[0].name << " alone at full voltage from rest\n"
-        << "    " << std::setw(24) << "model (model.md §2)" << "  top speed "
-        << steadyStateVelocity(model, {eMax, eMax}).x() << " m/s, time constant " << model.M(0, 0) / model.B(0, 0) * 1e3
-        << " ms; top yaw rate " << steadyStateVelocity(model, {eMax, -eMax}).y() << " rad/s, time constant "
-        << model.M(1, 1) / model.B(1, 1) * 1e3 << " ms\n";
+    log << std::fixed << std::setprecision(4) << "  sanity check: " << scene.robots[0].name
+        << " alone at full voltage from rest (top value; time to 1 - 1/e of it)\n"
+        << "    " << std::setw(24) << "model.md closed form" << "  speed " << steadyStateVelocity(model, {eMax, eMax}).x()
+        << " m/s, " << model.M(0, 0) / model.B(0, 0) * 1e3 << " ms; yaw rate "
+        << steadyStateVelocity(model, {eMax, -eMax}).y() << " rad/s, " << model.M(1, 1) / model.B(1, 1) * 1e3
+        << " ms\n";
     for (Setting& s : settings) {
         s.sanity = s.box2d ? sanityBox2d(s.scene, dt) : sanityVssim(s.scene, s.scene.simulation);
-        log << "    " << std::setw(24) << s.name << "  top speed " << s.sanity.speed.top << " m/s, time constant "
-            << s.sanity.speed.timeConstant * 1e3 << " ms; top yaw rate " << s.sanity.yaw.top
-            << " rad/s, time constant " << s.sanity.yaw.timeConstant * 1e3 << " ms\n";
+        log << "    " << std::setw(24) << s.name << "  speed " << s.sanity.speed.top << " m/s, "
+            << s.sanity.speed.timeConstant * 1e3 << " ms; yaw rate " << s.sanity.yaw.top << " rad/s, "
+            << s.sanity.yaw.timeConstant * 1e3 << " ms\n";
+    }
+    // What the bodies did in the scene (untimed runs).
+    log << "  the scene, every 30 ms: robots' mean |speed|, ball's path\n";
+    for (Setting& s : settings) {
+        s.activity = s.box2d ? activityBox2d(s.scene, end) : activityVssim(s.scene, end);
+        log << "    " << std::setw(24) << s.name << "  " << std::setprecision(3) << s.activity.meanRobotSpeed
+            << " m/s, " << s.activity.ballTravel << " m\n";
     }
 
-    // Interleaved rounds: each round times every setting once (a median of
+    // Interleaved rounds: each round times every setting (a median of
     // several runs); the figure quoted is the median of the rounds' medians.
     const int rounds = options.quick ? 1 : 5;
     int offFloor = 0;
@@ -431,32 +500,38 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
             s.roundMedians.push_back(t.median);
             s.runs += t.runs;
             if (!s.box2d) s.contacts = s.report.contacts;
-            log << "  " << s.name << " " << std::setprecision(4) << duration / t.median << "x";
+            log << "  " << s.name << " " << std::setprecision(0) << duration / t.median << "x";
         }
         log << "\n";
     }
-    if (offFloor != 0)
-        log << "  warning: " << offFloor << " Box2D bodies ended off the floor (through a wall)\n";
+    if (offFloor != 0) log << "  warning: " << offFloor << " Box2D bodies ended off the floor (through a wall)\n";
 
     out << "setting,dt_s,simulated_s,run_time_s,realtime_factor,runs,rounds,step_calls,long_steps,contacts,"
-           "top_speed_m_s,speed_time_constant_s,top_yaw_rate_rad_s,yaw_time_constant_s\n"
-        << std::setprecision(6);
-    log << "  " << duration << " s of the 3-vs-3 kick-off, random voltages every 30 ms, on the "
-        << (options.field ? "chosen" : "official 3 vs 3") << " field; medians of " << rounds << " round(s):\n";
+           "top_speed_m_s,speed_time_constant_s,top_yaw_rate_rad_s,yaw_time_constant_s,mean_robot_speed_m_s,"
+           "ball_path_m\n"
+        << std::defaultfloat << std::setprecision(6);
     const double box2dTime = median(settings[0].roundMedians);
+    std::ostringstream summary;
+    summary << std::fixed;
     for (const Setting& s : settings) {
         const double t = median(s.roundMedians);
         const std::int64_t steps = s.box2d ? end : s.report.stepCalls;
         const std::int64_t longSteps = s.box2d ? 0 : s.report.longSteps;
         out << '"' << s.name << "\"," << dt << ',' << duration << ',' << t << ',' << duration / t << ',' << s.runs
             << ',' << rounds << ',' << steps << ',' << longSteps << ',' << s.contacts << ',' << s.sanity.speed.top << ','
-            << s.sanity.speed.timeConstant << ',' << s.sanity.yaw.top << ',' << s.sanity.yaw.timeConstant << '\n';
-        log << "  " << std::setw(24) << s.name << "  " << std::setprecision(4) << std::setw(9) << duration / t
-            << "x real time  (" << t * 1e3 << " ms for " << duration << " s; " << steps << " steps, " << longSteps
-            << " long steps, " << s.contacts << (s.box2d ? " contacts begun" : " contacts");
-        if (!s.box2d) log << "; " << box2dTime / t << "x Box2D's factor";
-        log << ")\n";
+            << s.sanity.speed.timeConstant << ',' << s.sanity.yaw.top << ',' << s.sanity.yaw.timeConstant << ','
+            << s.activity.meanRobotSpeed << ',' << s.activity.ballTravel << '\n';
+        summary << "  " << std::setw(24) << s.name << "  " << std::setprecision(0) << std::setw(7) << duration / t
+                << "x real time  (" << std::setprecision(2) << t * 1e3 << " ms for " << std::setprecision(0)
+                << duration << " s; " << steps << " steps, " << longSteps << " long steps, " << s.contacts
+                << (s.box2d ? " contacts begun" : " contacts");
+        if (!s.box2d) summary << "; " << std::setprecision(1) << box2dTime / t << "x Box2D's factor";
+        summary << ")\n";
     }
+    log << "  the 3-vs-3 kick-off, random voltages every 30 ms, "
+        << (options.field ? "on the chosen field" : "on the official 3 vs 3 field") << ", dt = 1 ms; medians of "
+        << rounds << (rounds == 1 ? " round" : " rounds") << ":\n"
+        << summary.str();
     return 0;
 }
 
