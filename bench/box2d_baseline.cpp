@@ -32,7 +32,6 @@
 #include <cmath>
 #include <functional>
 #include <iomanip>
-#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -79,7 +78,7 @@ public:
 // by the caller.
 class Box2dWorld {
 public:
-    Box2dWorld(const Scene& scene) : world_(b2Vec2(0.0f, 0.0f)) {
+    explicit Box2dWorld(const Scene& scene) : world_(b2Vec2(0.0f, 0.0f)) {
         world_.SetContactListener(&contacts_);
         b2BodyDef wallsDef;  // static by default
         b2Body* walls = world_.CreateBody(&wallsDef);
