@@ -94,9 +94,7 @@ public:
     Box2dWorld(const Box2dWorld&) = delete;
     Box2dWorld& operator=(const Box2dWorld&) = delete;
 
-    void setVoltages(int robot, const Voltages& e) {
-        robots_[robot].e = clampVoltages(robots_[robot].model.params, e);
-    }
+    void setVoltages(int robot, const Voltages& e) { robots_[robot].e = clampVoltages(robots_[robot].model.params, e); }
 
     // One step of dt seconds: every robot's lateral grip and forces, then Box2D's step.
     void step(double dt) {
@@ -159,8 +157,8 @@ private:
         def.type = b2_dynamicBody;
         def.position = toBox2d(spec.initial.x, spec.initial.y);
         def.angle = static_cast<float>(spec.initial.theta);
-        def.linearVelocity = toBox2d(spec.initial.v * std::cos(spec.initial.theta),
-                                     spec.initial.v * std::sin(spec.initial.theta));
+        def.linearVelocity =
+            toBox2d(spec.initial.v * std::cos(spec.initial.theta), spec.initial.v * std::sin(spec.initial.theta));
         def.angularVelocity = static_cast<float>(spec.initial.omega);
         r.body = world_.CreateBody(&def);
         // Box2D rounds a polygon's corners with a skin of b2_polygonRadius:
@@ -176,9 +174,9 @@ private:
         // robot does (M is diagonal for a robot whose two sides match, as in
         // this scene; Box2D has no mass coupling speed and yaw rate).
         b2MassData mass;
-        mass.mass = static_cast<float>(r.model.M(0, 0));                                         // kg
-        mass.center = b2Vec2(0.0f, 0.0f);                                                        // centre of mass
-        mass.I = static_cast<float>(r.model.M(1, 1) * kUnitsPerMetre * kUnitsPerMetre);          // kg unit^2
+        mass.mass = static_cast<float>(r.model.M(0, 0));                                 // kg
+        mass.center = b2Vec2(0.0f, 0.0f);                                                // centre of mass
+        mass.I = static_cast<float>(r.model.M(1, 1) * kUnitsPerMetre * kUnitsPerMetre);  // kg unit^2
         r.body->SetMassData(&mass);
         return r;
     }
@@ -227,9 +225,10 @@ private:
             double side;
         } wheels[] = {{p.right, r.e.right, -1.0}, {p.left, r.e.left, 1.0}};
         for (const auto& w : wheels) {
-            const b2Vec2 at = b->GetWorldPoint(b2Vec2(0.0f, static_cast<float>(w.side * 0.5 * p.wheel_base * kUnitsPerMetre)));
+            const b2Vec2 at =
+                b->GetWorldPoint(b2Vec2(0.0f, static_cast<float>(w.side * 0.5 * p.wheel_base * kUnitsPerMetre)));
             const double speed = b2Dot(forward, b->GetLinearVelocityFromWorldPoint(at)) / kUnitsPerMetre;  // m/s
-            const double wheelRate = speed / w.motor.wheel_radius;                                     // rad/s
+            const double wheelRate = speed / w.motor.wheel_radius;                                         // rad/s
             const double torque = w.motor.k / w.motor.resistance * w.e -
                                   (w.motor.k * w.motor.k / w.motor.resistance + w.motor.friction) * wheelRate;
             const double force = torque / w.motor.wheel_radius * kUnitsPerMetre;  // kg unit/s^2
@@ -238,9 +237,8 @@ private:
         // The body's viscous friction along its heading and about its axis.
         const double v = b2Dot(forward, b->GetLinearVelocity()) / kUnitsPerMetre;  // m/s
         b->ApplyForceToCenter(static_cast<float>(-p.friction_linear * v * kUnitsPerMetre) * forward, true);
-        b->ApplyTorque(static_cast<float>(-p.friction_angular * b->GetAngularVelocity() * kUnitsPerMetre *
-                                          kUnitsPerMetre),
-                       true);
+        b->ApplyTorque(
+            static_cast<float>(-p.friction_angular * b->GetAngularVelocity() * kUnitsPerMetre * kUnitsPerMetre), true);
     }
 
     b2World world_;
@@ -259,7 +257,8 @@ struct Due {
 std::vector<Due> schedule(const Scene& scene) {
     std::vector<Due> due;
     for (const VoltageCommand& c : scene.commands) {
-        if (c.wheelSpeeds) throw std::runtime_error("the Box2D baseline drives voltages only, not wheel-speed commands");
+        if (c.wheelSpeeds)
+            throw std::runtime_error("the Box2D baseline drives voltages only, not wheel-speed commands");
         due.push_back({Simulation::stepIndexAtOrAfter(c.t, scene.simulation.dt), c.robot, c.voltages});
     }
     std::stable_sort(due.begin(), due.end(), [](const Due& a, const Due& b) { return a.step < b.step; });
@@ -270,7 +269,8 @@ std::vector<Due> schedule(const Scene& scene) {
 // runs are advanced; calls `sample` after every step with the number of
 // steps taken.
 std::int64_t runBox2d(const Scene& scene, std::int64_t end,
-                      const std::function<void(const Box2dWorld&, std::int64_t)>& sample = {}, int* offFloor = nullptr) {
+                      const std::function<void(const Box2dWorld&, std::int64_t)>& sample = {},
+                      int* offFloor = nullptr) {
     const double dt = scene.simulation.dt;
     const std::vector<Due> due = schedule(scene);
     Box2dWorld world(scene);
@@ -464,10 +464,10 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
     const double eMax = scene.robots[0].params.max_voltage;
     log << std::fixed << std::setprecision(4) << "  sanity check: " << scene.robots[0].name
         << " alone at full voltage from rest (top value; time to 1 - 1/e of it)\n"
-        << "    " << std::setw(24) << "model.md closed form" << "  speed " << steadyStateVelocity(model, {eMax, eMax}).x()
-        << " m/s, " << model.M(0, 0) / model.B(0, 0) * 1e3 << " ms; yaw rate "
-        << steadyStateVelocity(model, {eMax, -eMax}).y() << " rad/s, " << model.M(1, 1) / model.B(1, 1) * 1e3
-        << " ms\n";
+        << "    " << std::setw(24) << "model.md closed form"
+        << "  speed " << steadyStateVelocity(model, {eMax, eMax}).x() << " m/s, " << model.M(0, 0) / model.B(0, 0) * 1e3
+        << " ms; yaw rate " << steadyStateVelocity(model, {eMax, -eMax}).y() << " rad/s, "
+        << model.M(1, 1) / model.B(1, 1) * 1e3 << " ms\n";
     for (Setting& s : settings) {
         s.sanity = s.box2d ? sanityBox2d(s.scene, dt) : sanityVssim(s.scene, s.scene.simulation);
         log << "    " << std::setw(24) << s.name << "  speed " << s.sanity.speed.top << " m/s, "
@@ -517,12 +517,12 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
         const std::int64_t steps = s.box2d ? end : s.report.stepCalls;
         const std::int64_t longSteps = s.box2d ? 0 : s.report.longSteps;
         out << '"' << s.name << "\"," << dt << ',' << duration << ',' << t << ',' << duration / t << ',' << s.runs
-            << ',' << rounds << ',' << steps << ',' << longSteps << ',' << s.contacts << ',' << s.sanity.speed.top << ','
-            << s.sanity.speed.timeConstant << ',' << s.sanity.yaw.top << ',' << s.sanity.yaw.timeConstant << ','
+            << ',' << rounds << ',' << steps << ',' << longSteps << ',' << s.contacts << ',' << s.sanity.speed.top
+            << ',' << s.sanity.speed.timeConstant << ',' << s.sanity.yaw.top << ',' << s.sanity.yaw.timeConstant << ','
             << s.activity.meanRobotSpeed << ',' << s.activity.ballTravel << '\n';
         summary << "  " << std::setw(24) << s.name << "  " << std::setprecision(0) << std::setw(7) << duration / t
-                << "x real time  (" << std::setprecision(2) << t * 1e3 << " ms for " << std::setprecision(0)
-                << duration << " s; " << steps << " steps, " << longSteps << " long steps, " << s.contacts
+                << "x real time  (" << std::setprecision(2) << t * 1e3 << " ms for " << std::setprecision(0) << duration
+                << " s; " << steps << " steps, " << longSteps << " long steps, " << s.contacts
                 << (s.box2d ? " contacts begun" : " contacts");
         if (!s.box2d) summary << "; " << std::setprecision(1) << box2dTime / t << "x Box2D's factor";
         summary << ")\n";
