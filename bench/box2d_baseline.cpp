@@ -7,8 +7,8 @@
 // slows all of them alike:
 //   - Box2D, a top-down (zero gravity) world stepped at 1 ms with its
 //     default 8 velocity and 3 position iterations;
-//   - vssim, RK4 at 1 ms (its default);
-//   - vssim, the exact integrator with long steps.
+//   - vssim, RK4 at 1 ms;
+//   - vssim, the exact integrator with long steps (its default).
 //
 // The Box2D world models what vssim models (model.md), the way a Box2D
 // top-down game would:
@@ -455,7 +455,8 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
     std::vector<Setting> settings;
     settings.push_back({"box2d 2.4 1 ms", true, withIntegrator(Integrator::Rk4, false)});  // (the integrator unused)
     settings.push_back({"vssim rk4 1 ms", false, withIntegrator(Integrator::Rk4, false)});
-    settings.push_back({"vssim exact long steps", false, withIntegrator(Integrator::Exact, true)});
+    // vssim's default: exact, long steps, contacts at their time of impact.
+    settings.push_back({"vssim exact long steps (default)", false, withIntegrator(Integrator::Exact, true)});
 
     // The sanity check first: the same robot in each engine, beside the
     // closed forms of model.md §2 (M and B are diagonal for a robot whose
@@ -464,13 +465,13 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
     const double eMax = scene.robots[0].params.max_voltage;
     log << std::fixed << std::setprecision(4) << "  sanity check: " << scene.robots[0].name
         << " alone at full voltage from rest (top value; time to 1 - 1/e of it)\n"
-        << "    " << std::setw(24) << "model.md closed form"
+        << "    " << std::setw(32) << "model.md closed form"
         << "  speed " << steadyStateVelocity(model, {eMax, eMax}).x() << " m/s, " << model.M(0, 0) / model.B(0, 0) * 1e3
         << " ms; yaw rate " << steadyStateVelocity(model, {eMax, -eMax}).y() << " rad/s, "
         << model.M(1, 1) / model.B(1, 1) * 1e3 << " ms\n";
     for (Setting& s : settings) {
         s.sanity = s.box2d ? sanityBox2d(s.scene, dt) : sanityVssim(s.scene, s.scene.simulation);
-        log << "    " << std::setw(24) << s.name << "  speed " << s.sanity.speed.top << " m/s, "
+        log << "    " << std::setw(32) << s.name << "  speed " << s.sanity.speed.top << " m/s, "
             << s.sanity.speed.timeConstant * 1e3 << " ms; yaw rate " << s.sanity.yaw.top << " rad/s, "
             << s.sanity.yaw.timeConstant * 1e3 << " ms\n";
     }
@@ -478,7 +479,7 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
     log << "  the scene, every 30 ms: robots' mean |speed|, ball's path\n";
     for (Setting& s : settings) {
         s.activity = s.box2d ? activityBox2d(s.scene, end) : activityVssim(s.scene, end);
-        log << "    " << std::setw(24) << s.name << "  " << std::setprecision(3) << s.activity.meanRobotSpeed
+        log << "    " << std::setw(32) << s.name << "  " << std::setprecision(3) << s.activity.meanRobotSpeed
             << " m/s, " << s.activity.ballTravel << " m\n";
     }
 
@@ -520,7 +521,7 @@ int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log) 
             << ',' << rounds << ',' << steps << ',' << longSteps << ',' << s.contacts << ',' << s.sanity.speed.top
             << ',' << s.sanity.speed.timeConstant << ',' << s.sanity.yaw.top << ',' << s.sanity.yaw.timeConstant << ','
             << s.activity.meanRobotSpeed << ',' << s.activity.ballTravel << '\n';
-        summary << "  " << std::setw(24) << s.name << "  " << std::setprecision(0) << std::setw(7) << duration / t
+        summary << "  " << std::setw(32) << s.name << "  " << std::setprecision(0) << std::setw(7) << duration / t
                 << "x real time  (" << std::setprecision(2) << t * 1e3 << " ms for " << std::setprecision(0) << duration
                 << " s; " << steps << " steps, " << longSteps << " long steps, " << s.contacts
                 << (s.box2d ? " contacts begun" : " contacts");
