@@ -14,7 +14,8 @@ struct Options {
     std::string sceneFile;  // the 3-vs-3 scene file
     std::string sceneDir;   // resources/scenes of the source tree
     bool quick = false;     // fewer configurations and repetitions (a smoke run)
-    // The 3-vs-3 scene's field replaced by this one (realtime); none: the scene's own.
+    // The 3-vs-3 scene's field replaced by this one (realtime; box2d, whose default is
+    // the official 3 vs 3 field); none: the scene's own.
     std::optional<FieldType> field;
 };
 
@@ -25,5 +26,7 @@ int stability(const Options& options, std::ostream& out, std::ostream& log);
 int serveLatency(const Options& options, std::ostream& out, std::ostream& log);
 int firasimLatency(const Options& options, std::ostream& out, std::ostream& log);
 int matchBenchmark(const Options& options, std::ostream& out, std::ostream& log);
+// Built only with Box2D (VSSIM_HAVE_BOX2D): box2d_baseline.cpp.
+int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log);
 
 }  // namespace vssim::bench

@@ -1,7 +1,7 @@
 // vssim_bench: runs the benchmarks of docs/performance.md and writes CSV.
 //
 //   vssim_bench [--quick] [--out DIR] [--scene FILE] [--field NAME]
-//               [all|work-precision|realtime|scale|stability|serve|firasim|match]...
+//               [all|work-precision|realtime|scale|stability|serve|firasim|match|box2d]...
 #include <QCoreApplication>
 #include <QDir>
 #include <cstdio>
@@ -32,12 +32,17 @@ const char* kHelp =
     "                   as a baseline; --speed max and --firasim-sync rates (firasim.csv)\n"
     "  match            whole 3-vs-3 matches with the referee: real-time factor, the built-in\n"
     "                   team's goals against an idle team and itself, the game layer's cost (match.csv)\n"
+    "  box2d            the 3-vs-3 scene with random voltages on the official field in a Box2D 2.4\n"
+    "                   top-down baseline at 1 ms beside vssim (RK4 1 ms, exact with long steps),\n"
+    "                   timed in interleaved rounds, with a one-robot sanity check (box2d.csv;\n"
+    "                   only when built with Box2D: Debian's libbox2d-dev)\n"
     "\n"
     "Options:\n"
     "  --out DIR      folder for the CSV files (default: bench-results), created if needed\n"
     "  --scene FILE   the 3-vs-3 scene (default: resources/scenes/kickoff_3v3.json of the source tree)\n"
     "  --field NAME   realtime: run the 3-vs-3 scene on this field instead of its own: box (the\n"
-    "                 seed's 1.50 x 1.30 m box), vsss_3v3 or vsss_5v5 (official, with goals)\n"
+    "                 seed's 1.50 x 1.30 m box), vsss_3v3 or vsss_5v5 (official, with goals);\n"
+    "                 box2d: this field instead of vsss_3v3\n"
     "  --quick        fewer configurations and single runs: a smoke test, not figures to quote\n"
     "  -h, --help     this help\n";
 
@@ -58,6 +63,9 @@ int main(int argc, char** argv) {
         {"serve", {vssim::bench::serveLatency, "serve.csv"}},
         {"firasim", {vssim::bench::firasimLatency, "firasim.csv"}},
         {"match", {vssim::bench::matchBenchmark, "match.csv"}},
+#if VSSIM_HAVE_BOX2D
+        {"box2d", {vssim::bench::box2dBaseline, "box2d.csv"}},
+#endif
     };
     std::vector<std::string> chosen;
     for (int i = 1; i < argc; ++i) {
@@ -85,14 +93,19 @@ int main(int argc, char** argv) {
             for (const auto& [name, bench] : benches) chosen.push_back(name);
         } else if (benches.count(a)) {
             chosen.push_back(a);
+        } else if (a == "box2d") {  // registered above only when built with Box2D
+            std::cerr << "vssim_bench: box2d: this vssim_bench was built without Box2D; install Debian's "
+                         "libbox2d-dev (./setup.sh does), configure again (cmake -S . -B build) and rebuild\n";
+            return 2;
         } else {
             std::cerr << "vssim_bench: unknown argument \"" << a << "\" (or a missing value)\n\n" << kHelp;
             return 2;
         }
     }
     if (chosen.empty())
-        for (const char* name : {"stability", "work-precision", "realtime", "scale", "serve", "firasim", "match"})
-            chosen.push_back(name);
+        for (const char* name :
+             {"stability", "work-precision", "realtime", "scale", "serve", "firasim", "match", "box2d"})
+            if (benches.count(name)) chosen.push_back(name);  // box2d only when built with Box2D
     if (!QDir().mkpath(QString::fromStdString(outDir))) {
         std::cerr << "vssim_bench: cannot create " << outDir << "\n";
         return 1;
