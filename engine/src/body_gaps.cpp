@@ -58,16 +58,28 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
         const Separation s = separationBetween(model, ref(i), pose(i), ref(j), pose(j));
         out.push_back({ref(i), ref(j), s.distance, closing});
     };
-    // Robot pairs, both moving (a frozen body is out of every moving one's reach: long_step_planner.cpp).
+    // Robot pairs, both moving (a frozen body is out of every moving one's
+    // reach: long_step_planner.cpp): among the moving robots only, so that a
+    // few moving among a thousand cost little. In index order either way.
+    std::vector<int>& moving = scratch.moving;
+    moving.clear();
+    for (std::size_t i = 0; i < n; ++i)
+        if (movingRobots[i]) moving.push_back(int(i));
     scratch.pairs.clear();
-    if (useBroadPhase(model, state)) {
-        candidatePairs(state.robots, model.sides, fastest * horizon, scratch.broadPhase, scratch.pairs);
+    if (model.settings.broad_phase && static_cast<int>(moving.size()) >= kBroadPhaseMinRobots) {
+        scratch.movingPoses.clear();
+        scratch.movingSides.clear();
+        for (const int i : moving) {
+            scratch.movingPoses.push_back(state.robots[i]);
+            scratch.movingSides.push_back(model.sides[i]);
+        }
+        candidatePairs(scratch.movingPoses, scratch.movingSides, fastest * horizon, scratch.broadPhase, scratch.pairs);
+        for (auto& [i, j] : scratch.pairs) i = moving[i], j = moving[j];  // increasing: the order is kept
     } else {
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t j = i + 1; j < n; ++j) scratch.pairs.emplace_back(int(i), int(j));
+        for (std::size_t a = 0; a < moving.size(); ++a)
+            for (std::size_t b = a + 1; b < moving.size(); ++b) scratch.pairs.emplace_back(moving[a], moving[b]);
     }
-    for (const auto& [i, j] : scratch.pairs)
-        if (movingRobots[i] && movingRobots[j]) offer(std::size_t(i), std::size_t(j));
+    for (const auto& [i, j] : scratch.pairs) offer(std::size_t(i), std::size_t(j));
     if (ballMoving)
         for (std::size_t i = 0; i < n; ++i)
             if (movingRobots[i]) offer(n, i);

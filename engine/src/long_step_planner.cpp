@@ -58,6 +58,7 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
     // collision may have sped it up), moves at most its travel bound over
     // the remaining time. Both discs must stay apart.
     const std::size_t n = state_.robots.size();
+    if (start.byX.empty()) return true;  // nobody frozen
     auto reach = [this, n](std::size_t b) { return b < n ? boundingRadius(model_.sides[b]) : model_.ball.radius; };
     for (std::size_t j = 0; j <= n; ++j) {
         if (start.frozen[j]) continue;
@@ -68,8 +69,14 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
         const double jTravel = (j < n ? robotTravelForIntegrator(model_, state_, j, remaining)
                                       : ballTravelForIntegrator(model_, state_, remaining)) +
                                2.0 * speed * margin;
-        for (std::size_t i = 0; i <= n; ++i) {
-            if (!start.frozen[i]) continue;
+        // Only frozen bodies within the widest reach along x can be too close
+        // (start.byX: the frozen bodies by their x; NaN fails below).
+        const double window = reach(j) + jTravel + start.widest;  // m
+        if (!(window < INFINITY) || std::isnan(pjX)) return false;
+        auto k = std::lower_bound(start.byX.begin(), start.byX.end(), pjX - window,
+                                  [&start](int i, double x) { return start.x[i] < x; });
+        for (; k != start.byX.end() && start.x[*k] <= pjX + window; ++k) {
+            const std::size_t i = static_cast<std::size_t>(*k);
             const double dx = pjX - start.x[i], dy = pjY - start.y[i];
             const double distance = std::sqrt(dx * dx + dy * dy);
             if (!(distance - reach(i) - reach(j) > start.travel[i] + jTravel)) return false;
@@ -108,6 +115,19 @@ std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_
     return 0;
 }
 
+void Simulation::saveStepping(bool ballMoving) {
+    stepStartRobots_.resize(state_.robots.size());
+    for (std::size_t i = 0; i < state_.robots.size(); ++i)
+        if (steppingRobots_[i]) stepStartRobots_[i] = state_.robots[i];
+    if (ballMoving) stepStartBall_ = state_.ball;
+}
+
+void Simulation::restoreStepping(bool ballMoving) {
+    for (std::size_t i = 0; i < state_.robots.size(); ++i)
+        if (steppingRobots_[i]) state_.robots[i] = stepStartRobots_[i];
+    if (ballMoving) state_.ball = stepStartBall_;
+}
+
 RobotState Simulation::poseNow(const BodyRef& body) const {
     if (body.kind == BodyKind::Robot) return state_.robots[body.index];
     return body.kind == BodyKind::Ball ? poseOf(state_.ball) : RobotState{};
@@ -131,7 +151,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
                                               AdvanceReport& report) {
     const double dt = model_.settings.dt;
     const std::size_t n = state_.robots.size();
-    beforeStep_ = state_;
+    saveStepping(ballMoving);
     advanceBodies(dt, &steppingRobots_, ballMoving);  // the exact end of the step, no contacts yet
     // The first instant within the step at which a gap closes, on the paths
     // between the step's two exact ends.
@@ -140,7 +160,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     auto poseAt = [this](const BodyRef& body, double t) {
         if (body.kind == BodyKind::Robot) return paths_[body.index].at(t);
         if (body.kind == BodyKind::Ball) {
-            const Eigen::Vector2d c = ballPositionAfter(model_.ball, beforeStep_.ball, t);
+            const Eigen::Vector2d c = ballPositionAfter(model_.ball, stepStartBall_, t);
             RobotState p;
             p.x = c.x();
             p.y = c.y();
@@ -153,9 +173,9 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     // depends on where the call ends: the search must not).
     auto speedWithinStep = [&](const BodyRef& body) {
         if (body.kind == BodyKind::Robot)
-            return pointSpeedBoundWithin(model_.robots[body.index], beforeStep_.robots[body.index],
+            return pointSpeedBoundWithin(model_.robots[body.index], stepStartRobots_[body.index],
                                          state_.voltages[body.index], dt);
-        return body.kind == BodyKind::Ball ? std::hypot(beforeStep_.ball.vx, beforeStep_.ball.vy) : 0.0;
+        return body.kind == BodyKind::Ball ? std::hypot(stepStartBall_.vx, stepStartBall_.vy) : 0.0;
     };
     for (BodyGap& g : gaps_) g.closing = speedWithinStep(g.a) + speedWithinStep(g.b);
     double first = dt;  // s into the step
@@ -170,7 +190,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         for (const BodyRef& body : {g.a, g.b}) {
             if (body.kind != BodyKind::Robot || pathReady_[body.index]) continue;
             const int i = body.index;
-            paths_[i] = RobotPath(model_.robots[i], beforeStep_.robots[i], state_.robots[i], state_.voltages[i], dt);
+            paths_[i] = RobotPath(model_.robots[i], stepStartRobots_[i], state_.robots[i], state_.voltages[i], dt);
             pathReady_[i] = 1;
         }
         const auto gapAt = [&](double t) {
@@ -182,7 +202,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
             first = a.t;
             touched = true;
         } else if (!a.finished) {  // a grazing pass the search could not settle: a step on the grid
-            state_ = beforeStep_;
+            restoreStepping(ballMoving);
             return ImpactStep::Unresolved;
         }
     }
@@ -190,7 +210,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     // Again from the start, exactly to the instant of impact; there every
     // gap that has closed is a contact, answered by the collision model as
     // at any contact (its depth is zero: nothing to separate).
-    state_ = beforeStep_;
+    restoreStepping(ballMoving);
     if (first > 0.0) advanceBodies(first, &steppingRobots_, ballMoving);
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
@@ -251,9 +271,13 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         runSpeedLoops();
         std::int64_t next = nextLoopStep(target);  // the loops' samples change voltages too
         if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
+        // After a replan with contacts at their instant: one step with
+        // nobody frozen, then plans as usual (a whole stretch of everybody
+        // stepping costs a thousand robots dearly).
+        if (forceOrdinaryStep_ && impacts) next = std::min(next, state_.step + 1);
         const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
         // After a replan: an ordinary step with everybody, or with contacts at
-        // their instant, a stretch in which nobody is frozen (an ordinary step
+        // their instant, a step in which nobody is frozen (an ordinary step
         // would answer the contact on the grid, and the results would depend
         // on where the calls are cut).
         const bool nobodyFrozen = forceOrdinaryStep_ && impacts;
@@ -322,6 +346,17 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         start.y[n] = state_.ball.y;
         start.robots = state_.robots;
         start.ball = state_.ball;
+        start.byX.clear();
+        start.widest = 0.0;
+        for (std::size_t i = 0; i <= n; ++i) {
+            if (!start.frozen[i]) continue;
+            start.byX.push_back(static_cast<int>(i));
+            const double reach = i < n ? boundingRadius(model_.sides[i]) : model_.ball.radius;
+            start.widest = std::max(start.widest, reach + start.travel[i]);
+        }
+        std::sort(start.byX.begin(), start.byX.end(), [&start](int a, int b) {
+            return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
+        });
         frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
         StepOptions options;
         options.freeRobots = &frozenRobots_;
@@ -380,7 +415,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
                     }
                     if (outcome == ImpactStep::Contact) {
                         if (!frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
-                            state_ = beforeStep_;  // as below: again with everybody
+                            restoreStepping(ballMoving);  // as below: again with everybody
                             stillSafe = false;
                             forceOrdinaryStep_ = true;
                             ++report.replans;

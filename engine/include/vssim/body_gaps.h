@@ -26,6 +26,9 @@ struct BodyGap {
 struct BodyGapScratch {
     std::vector<double> speed;  // per body (robots, then the ball): the fastest any of its points moves, m/s
     std::vector<std::pair<int, int>> pairs;
+    std::vector<int> moving;  // indices of the moving robots
+    std::vector<RobotState> movingPoses;
+    std::vector<double> movingSides;
     BroadPhaseScratch broadPhase;
 };
 

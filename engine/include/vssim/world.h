@@ -188,6 +188,8 @@ private:
         BallState ball;
         std::vector<double> x, y;    // m
         std::vector<double> travel;  // m, over the whole stretch
+        std::vector<int> byX;        // the frozen bodies by increasing x
+        double widest = 0.0;         // m: the largest reach plus travel of a frozen body
     };
     // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
     // `margin` (s) adds that many seconds at each stepping body's speed bound, twice.
@@ -203,14 +205,20 @@ private:
     std::int64_t gapSafeSteps(std::int64_t remaining, bool ballMoving);
     // One step of dt for the stepping bodies in which a gap of gaps_ may
     // close: Free (none did: the step is taken), Contact (the step was taken
-    // with the contact answered at its instant; beforeStep_ holds its start),
+    // with the contact answered at its instant),
     // or Unresolved (the state is as before: take an ordinary step).
+    // After Contact, restoreStepping() puts the step's start back.
     enum class ImpactStep { Free, Contact, Unresolved };
     // The pairs of gaps_ within kContactSkin that approach are answered now
     // (`now`: simulated time, s, for the report).
     void answerTouchingGaps(double now, AdvanceReport& report);
     // A body's pose in state_ (the ball's centre in x, y; a wall's is not used).
     RobotState poseNow(const BodyRef& body) const;
+    // The stepping bodies at a searched step's start, kept and put back:
+    // nothing else changes within it (a copy of the whole state costs a
+    // thousand robots dearly at every step).
+    void saveStepping(bool ballMoving);
+    void restoreStepping(bool ballMoving);
     // `stepStart`: the step's start in simulated time, s (for the report).
     ImpactStep impactStep(bool ballMoving, double stepStart, const StepOptions& options, AdvanceReport& report);
 
@@ -231,6 +239,8 @@ private:
     BodyGapScratch gapScratch_;
     std::vector<RobotPath> paths_;     // impactStep's robot paths over its step
     std::vector<char> pathReady_;
+    std::vector<RobotState> stepStartRobots_;  // saveStepping's (stepping robots' entries only)
+    BallState stepStartBall_;
 };
 
 }  // namespace vssim
