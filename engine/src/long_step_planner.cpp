@@ -187,6 +187,24 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         // searched are near misses: a robot along a wall, two passing by.)
         const Separation atEnd = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
         if (g.gap + atEnd.distance > g.closing * kPathSpeedSlack * dt) continue;
+        // Nor for bodies resting on each other (a robot pushing the ball or
+        // another robot: within kRestingGap, closing slower than
+        // kRestingSpeed): searching them would crawl, and find a new contact
+        // at every step; they meet at the step's end and the next step, an
+        // ordinary one, answers them, as on the grid.
+        if (g.gap <= kRestingGap) {
+            Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
+            auto startPose = [this](const BodyRef& body) {
+                if (body.kind == BodyKind::Robot) return stepStartRobots_[body.index];
+                return body.kind == BodyKind::Ball ? poseOf(stepStartBall_) : RobotState{};
+            };
+            const Separation s = separationBetween(model_, g.a, startPose(g.a), g.b, startPose(g.b));
+            if (!s.overlapping) {
+                const Eigen::Vector2d relative =
+                    contactPointVelocity(atStart, g.a, s.point) - contactPointVelocity(atStart, g.b, s.point);  // m/s
+                if (-relative.dot(s.normal) < kRestingSpeed) continue;
+            }
+        }
         for (const BodyRef& body : {g.a, g.b}) {
             if (body.kind != BodyKind::Robot || pathReady_[body.index]) continue;
             const int i = body.index;

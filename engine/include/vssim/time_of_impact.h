@@ -40,6 +40,13 @@ constexpr double kTouchDistance = 1e-6;
 // the state alone, so the results do not depend on how a run is cut into
 // calls. m.
 constexpr double kContactSkin = 2.0 * kTouchDistance;
+// Bodies within kRestingGap of each other that close slower than
+// kRestingSpeed rest on each other (a robot pushing the ball or another
+// robot): a step is not searched for them (the search would crawl, and find a
+// new contact at every step); they meet at its end and the next step, an
+// ordinary one, answers them, as fixed steps would.
+constexpr double kRestingGap = 1e-4;    // m
+constexpr double kRestingSpeed = 0.01;  // m/s
 // Iterations of one search, at most: beyond it the search reports how far it
 // got safely (a grazing pass that neither touches nor leaves).
 constexpr int kMaxAdvancements = 256;
