@@ -190,8 +190,8 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         // Nor for bodies resting on each other (a robot pushing the ball or
         // another robot: within kRestingGap, closing slower than
         // kRestingSpeed): searching them would crawl, and find a new contact
-        // at every step; they meet at the step's end and the next step, an
-        // ordinary one, answers them, as on the grid.
+        // at every step. If they meet by the step's end, the step is an
+        // ordinary one instead, as on the grid.
         if (g.gap <= kRestingGap) {
             Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
             auto startPose = [this](const BodyRef& body) {
@@ -202,7 +202,14 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
             if (!s.overlapping) {
                 const Eigen::Vector2d relative =
                     contactPointVelocity(atStart, g.a, s.point) - contactPointVelocity(atStart, g.b, s.point);  // m/s
-                if (-relative.dot(s.normal) < kRestingSpeed) continue;
+                if (-relative.dot(s.normal) < kRestingSpeed) {
+                    // Unless they meet by the step's end: then an ordinary step answers them.
+                    if (separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b)).overlapping) {
+                        restoreStepping(ballMoving);
+                        return ImpactStep::Unresolved;
+                    }
+                    continue;
+                }
             }
         }
         for (const BodyRef& body : {g.a, g.b}) {

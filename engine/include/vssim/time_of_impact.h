@@ -43,8 +43,8 @@ constexpr double kContactSkin = 2.0 * kTouchDistance;
 // Bodies within kRestingGap of each other that close slower than
 // kRestingSpeed rest on each other (a robot pushing the ball or another
 // robot): a step is not searched for them (the search would crawl, and find a
-// new contact at every step); they meet at its end and the next step, an
-// ordinary one, answers them, as fixed steps would.
+// new contact at every step); if they meet by its end, the step is an
+// ordinary one instead, its contacts found at its end as fixed steps would.
 constexpr double kRestingGap = 1e-4;    // m
 constexpr double kRestingSpeed = 0.01;  // m/s
 // Iterations of one search, at most: beyond it the search reports how far it
