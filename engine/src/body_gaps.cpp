@@ -7,16 +7,12 @@
 
 namespace vssim {
 
-namespace {
-
 RobotState ballPose(const BallState& ball) {
     RobotState p;
     p.x = ball.x;
     p.y = ball.y;
     return p;
 }
-
-}  // namespace
 
 Separation separationBetween(const WorldModel& model, const BodyRef& a, const RobotState& poseA, const BodyRef& b,
                              const RobotState& poseB) {

@@ -25,12 +25,6 @@ constexpr std::int64_t kLongestRetryWait = 16;
 // interpolation's error, O(h^5) relative; this slack covers it many times over.
 constexpr double kPathSpeedSlack = 1.0 + 1e-6;
 
-RobotState poseOf(const BallState& ball) {
-    RobotState p;
-    p.x = ball.x;
-    p.y = ball.y;
-    return p;
-}
 
 }  // namespace
 
@@ -130,7 +124,7 @@ void Simulation::restoreStepping(bool ballMoving) {
 
 RobotState Simulation::poseNow(const BodyRef& body) const {
     if (body.kind == BodyKind::Robot) return state_.robots[body.index];
-    return body.kind == BodyKind::Ball ? poseOf(state_.ball) : RobotState{};
+    return body.kind == BodyKind::Ball ? ballPose(state_.ball) : RobotState{};
 }
 
 std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
@@ -161,10 +155,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         if (body.kind == BodyKind::Robot) return paths_[body.index].at(t);
         if (body.kind == BodyKind::Ball) {
             const Eigen::Vector2d c = ballPositionAfter(model_.ball, stepStartBall_, t);
-            RobotState p;
-            p.x = c.x();
-            p.y = c.y();
-            return p;
+            return ballPose({c.x(), c.y(), 0.0, 0.0});
         }
         return RobotState{};
     };
@@ -196,7 +187,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
             Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
             auto startPose = [this](const BodyRef& body) {
                 if (body.kind == BodyKind::Robot) return stepStartRobots_[body.index];
-                return body.kind == BodyKind::Ball ? poseOf(stepStartBall_) : RobotState{};
+                return body.kind == BodyKind::Ball ? ballPose(stepStartBall_) : RobotState{};
             };
             const Separation s = separationBetween(model_, g.a, startPose(g.a), g.b, startPose(g.b));
             if (!s.overlapping) {

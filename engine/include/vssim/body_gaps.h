@@ -39,6 +39,9 @@ struct BodyGapScratch {
 void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<char>& movingRobots,
                   bool ballMoving, double horizon, std::vector<BodyGap>& out, BodyGapScratch& scratch);
 
+// The ball's centre as a pose (x, y; theta 0), for separationBetween.
+RobotState ballPose(const BallState& ball);
+
 // The separation of a pair's bodies at the given poses (a robot's x, y and
 // theta; the ball's centre in x and y; a wall's pose is not used).
 Separation separationBetween(const WorldModel& model, const BodyRef& a, const RobotState& poseA, const BodyRef& b,
