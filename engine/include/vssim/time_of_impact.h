@@ -45,8 +45,8 @@ constexpr double kContactSkin = 2.0 * kTouchDistance;
 // robot): a step is not searched for them (the search would crawl, and find a
 // new contact at every step); if they meet by its end, the step is an
 // ordinary one instead, its contacts found at its end as fixed steps would.
-constexpr double kRestingGap = 1e-4;    // m
-constexpr double kRestingSpeed = 0.01;  // m/s
+constexpr double kRestingGap = 1e-3;    // m
+constexpr double kRestingSpeed = 0.05;  // m/s
 // Iterations of one search, at most: beyond it the search reports how far it
 // got safely (a grazing pass that neither touches nor leaves).
 constexpr int kMaxAdvancements = 256;
