@@ -4,6 +4,7 @@
 // exact step while the others take steps of dt.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "vssim/collision_response.h"
 #include "vssim/geometry.h"
@@ -25,6 +26,12 @@ constexpr std::int64_t kLongestRetryWait = 16;
 // interpolation's error, O(h^5) relative; this slack covers it many times over.
 constexpr double kPathSpeedSlack = 1.0 + 1e-6;
 
+// A body's pose among the given robots and ball (the ball's centre in x, y;
+// a wall's pose is not used).
+RobotState poseAmong(const BodyRef& body, const std::vector<RobotState>& robots, const BallState& ball) {
+    if (body.kind == BodyKind::Robot) return robots[body.index];
+    return body.kind == BodyKind::Ball ? ballPose(ball) : RobotState{};
+}
 
 }  // namespace
 
@@ -122,9 +129,18 @@ void Simulation::restoreStepping(bool ballMoving) {
     if (ballMoving) state_.ball = stepStartBall_;
 }
 
-RobotState Simulation::poseNow(const BodyRef& body) const {
-    if (body.kind == BodyKind::Robot) return state_.robots[body.index];
-    return body.kind == BodyKind::Ball ? ballPose(state_.ball) : RobotState{};
+RobotState Simulation::poseNow(const BodyRef& body) const { return poseAmong(body, state_.robots, state_.ball); }
+
+std::optional<Contact> Simulation::touchingContact(const BodyGap& g) const {
+    const Separation s = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
+    // (An overlap is left to a step's contact passes, which describe overlaps.)
+    if (s.overlapping || s.distance > kContactSkin) return std::nullopt;
+    Contact c;
+    c.a = g.a;
+    c.b = g.b;
+    c.normal = s.normal;
+    c.point = s.point;
+    return c;
 }
 
 std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
@@ -185,11 +201,9 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         // ordinary one instead, as on the grid.
         if (g.gap <= kRestingGap) {
             Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
-            auto startPose = [this](const BodyRef& body) {
-                if (body.kind == BodyKind::Robot) return stepStartRobots_[body.index];
-                return body.kind == BodyKind::Ball ? ballPose(stepStartBall_) : RobotState{};
-            };
-            const Separation s = separationBetween(model_, g.a, startPose(g.a), g.b, startPose(g.b));
+            const Separation s =
+                separationBetween(model_, g.a, poseAmong(g.a, stepStartRobots_, stepStartBall_), g.b,
+                                  poseAmong(g.b, stepStartRobots_, stepStartBall_));
             if (!s.overlapping) {
                 const Eigen::Vector2d relative =
                     contactPointVelocity(atStart, g.a, s.point) - contactPointVelocity(atStart, g.b, s.point);  // m/s
@@ -231,16 +245,10 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
         if (g.gap > g.closing * dt) continue;
-        const Separation s = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
-        // (The exact state is within the paths' error of the searched one;
-        // an overlap, were there one, is left to the step's contact passes.)
-        if (s.overlapping || s.distance > 2.0 * kTouchDistance) continue;
-        Contact c;
-        c.a = g.a;
-        c.b = g.b;
-        c.normal = s.normal;
-        c.point = s.point;
-        respondToContact(c, bodies, model_.settings.collision_model, model_.settings.restitution);
+        // (The exact state is within the paths' error of the searched one.)
+        const std::optional<Contact> c = touchingContact(g);
+        if (!c) continue;
+        respondToContact(*c, bodies, model_.settings.collision_model, model_.settings.restitution);
         ++report.contacts;
         ++report.impacts;
         if (!(report.firstImpact <= stepStart + first)) report.firstImpact = stepStart + first;
@@ -257,14 +265,9 @@ void Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
         if (g.gap > kContactSkin) continue;
-        const Separation s = separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b));
-        if (s.overlapping) continue;  // the step's contact passes take it
-        Contact c;
-        c.a = g.a;
-        c.b = g.b;
-        c.normal = s.normal;
-        c.point = s.point;
-        if (!respondToContact(c, bodies, model_.settings.collision_model, model_.settings.restitution)) continue;
+        const std::optional<Contact> c = touchingContact(g);
+        if (!c || !respondToContact(*c, bodies, model_.settings.collision_model, model_.settings.restitution))
+            continue;
         ++report.contacts;
         ++report.impacts;
         if (!(report.firstImpact <= now)) report.firstImpact = now;
@@ -287,16 +290,14 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         runSpeedLoops();
         std::int64_t next = nextLoopStep(target);  // the loops' samples change voltages too
         if (nextCommand_ < schedule_.size()) next = std::min(next, schedule_[nextCommand_].step);
-        // After a replan with contacts at their instant: one step with
-        // nobody frozen, then plans as usual (a whole stretch of everybody
-        // stepping costs a thousand robots dearly).
-        if (forceOrdinaryStep_ && impacts) next = std::min(next, state_.step + 1);
-        const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
         // After a replan: an ordinary step with everybody, or with contacts at
-        // their instant, a step in which nobody is frozen (an ordinary step
-        // would answer the contact on the grid, and the results would depend
-        // on where the calls are cut).
+        // their instant, one step in which nobody is frozen, then plans as
+        // usual (an ordinary step would answer the contact on the grid, and
+        // the results would depend on where the calls are cut; a whole
+        // stretch of everybody stepping costs a thousand robots dearly).
         const bool nobodyFrozen = forceOrdinaryStep_ && impacts;
+        if (nobodyFrozen) next = std::min(next, state_.step + 1);
+        const std::int64_t stretch = next - state_.step;  // steps until the voltages can change
         if (!plan || (forceOrdinaryStep_ && !impacts)) {
             forceOrdinaryStep_ = false;
             report.contacts += ordinaryStep().contacts;
@@ -423,7 +424,8 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
                 }
                 if (steps == 0) {
                     prepareStep();
-                    const ImpactStep outcome = impactStep(ballMoving, static_cast<double>(state_.step + done) * dt, options, report);
+                    const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
+                    const ImpactStep outcome = impactStep(ballMoving, stepStart, options, report);
                     if (outcome == ImpactStep::Free) {
                         ++done;
                         ++report.longSteps;

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -214,6 +215,9 @@ private:
     void answerTouchingGaps(double now, AdvanceReport& report);
     // A body's pose in state_ (the ball's centre in x, y; a wall's is not used).
     RobotState poseNow(const BodyRef& body) const;
+    // The contact of a gap's bodies in state_ when they are apart by at most
+    // kContactSkin (normal and point from their nearest points), else none.
+    std::optional<Contact> touchingContact(const BodyGap& g) const;
     // The stepping bodies at a searched step's start, kept and put back:
     // nothing else changes within it (a copy of the whole state costs a
     // thousand robots dearly at every step).
