@@ -65,6 +65,10 @@ private slots:
     void gameRoundTripIsExact();
     void badGame_data();
     void badGame();
+    void cameraPresetsAndKeys();
+    void cameraRoundTripIsExact();
+    void badCamera_data();
+    void badCamera();
 };
 
 void TestSceneIo::emptySceneHasModelDefaults() {
@@ -820,6 +824,112 @@ void TestSceneIo::badGame_data() {
 }
 
 void TestSceneIo::badGame() {
+    QFETCH(QByteArray, json);
+    QFETCH(QString, message);
+    QString error;
+    QVERIFY(!parseScene(json, &error));
+    QVERIFY2(error.startsWith(message), qPrintable(error));
+}
+
+void TestSceneIo::cameraPresetsAndKeys() {
+    // No `camera`: the ideal camera, today's image.
+    QVERIFY(parseOk("{}").camera == idealCamera());
+    QCOMPARE(cameraPresetName(parseOk("{}").camera), QStringLiteral("ideal"));
+    // A preset replaces everything, then each key overrides one value.
+    const Scene realistic = parseOk(R"({"camera": {"preset": "realistic"}})");
+    QVERIFY(realistic.camera == realisticCamera());
+    QCOMPARE(cameraPresetName(realistic.camera), QStringLiteral("realistic"));
+    QCOMPARE(realistic.camera.projection, CameraProjection::Pinhole);
+    const Scene tuned = parseOk(R"({"camera": {"preset": "realistic", "noise": 0, "latency": 0.1, "seed": 7}})");
+    QCOMPARE(tuned.camera.noise, 0.0);
+    QCOMPARE(tuned.camera.latency, 0.1);
+    QCOMPARE(tuned.camera.seed, std::uint64_t(7));
+    QCOMPARE(tuned.camera.k1, realisticCamera().k1);
+    QCOMPARE(cameraPresetName(tuned.camera), QStringLiteral("custom"));
+    // Keys without a preset apply over the ideal camera; delivery and truth
+    // noise need no lens.
+    const Scene noisy = parseOk(R"({"camera": {"position_noise": 0.003, "vanish": 0.5, "blur_samples": 2}})");
+    QCOMPARE(noisy.camera.projection, CameraProjection::Orthographic);
+    QCOMPARE(noisy.camera.position_noise, 0.003);
+    QCOMPARE(noisy.camera.vanish, 0.5);
+    QCOMPARE(noisy.camera.blur_samples, 2);
+    // The same function reads a HELLO's overrides over a scene's camera, naming its own path.
+    QString error;
+    const std::optional<CameraSettings> over =
+        cameraSettingsFromJson(QJsonObject{{"drop", 0.25}}, realisticCamera(), "hello.camera", &error);
+    QVERIFY2(over, qPrintable(error));
+    QCOMPARE(over->drop, 0.25);
+    QCOMPARE(over->k2, realisticCamera().k2);
+    QVERIFY(!cameraSettingsFromJson(QJsonObject{{"drop", 1.5}}, realisticCamera(), "hello.camera", &error));
+    QVERIFY2(error.startsWith("hello.camera.drop: must be between 0 and 0.9"), qPrintable(error));
+}
+
+void TestSceneIo::cameraRoundTripIsExact() {
+    Scene s;
+    s.camera = realisticCamera();
+    s.camera.height = 1.0 + 1.0 / 3;
+    s.camera.focal_length = 700.0 / 7 * 3;
+    s.camera.k3 = -1.0 / 9;
+    s.camera.p2 = 1.0 / 300;
+    s.camera.gain_g = 2.0 / 3;
+    s.camera.jitter = 0.01 / 3;
+    s.camera.blur_samples = 13;
+    s.camera.seed = (std::uint64_t(1) << 53) - 1;
+    QString error;
+    const std::optional<Scene> back = parseScene(sceneToJson(s), &error);
+    QVERIFY2(back, qPrintable(error));
+    QVERIFY(back->camera == s.camera);
+    // Every key is written, so a written scene does not depend on today's presets.
+    const QJsonObject camera = QJsonDocument::fromJson(sceneToJson(Scene{})).object()["camera"].toObject();
+    QCOMPARE(camera.size(), 24);
+    QCOMPARE(camera["projection"].toString(), QStringLiteral("orthographic"));
+    QCOMPARE(camera.value("preset"), QJsonValue(QJsonValue::Undefined));
+}
+
+void TestSceneIo::badCamera_data() {
+    QTest::addColumn<QByteArray>("json");
+    QTest::addColumn<QString>("message");
+    QTest::newRow("not an object") << QByteArray(R"({"camera": "realistic"})") << "camera: expected an object";
+    QTest::newRow("unknown key") << QByteArray(R"({"camera": {"fov": 70}})")
+                                 << "camera.fov: unknown key (expected one of: preset, projection, height,";
+    QTest::newRow("unknown preset") << QByteArray(R"({"camera": {"preset": "real"}})")
+                                    << R"(camera.preset: expected one of "ideal", "realistic" (got "real"))";
+    QTest::newRow("unknown projection") << QByteArray(R"({"camera": {"projection": "fisheye"}})")
+                                        << R"(camera.projection: expected one of "orthographic", "pinhole")";
+    QTest::newRow("camera below the robots") << QByteArray(R"({"camera": {"preset": "realistic", "height": 0.05}})")
+                                             << "camera.height: must be between 0.5 and 20 m (got 0.05)";
+    QTest::newRow("negative focal length") << QByteArray(R"({"camera": {"focal_length": -1}})")
+                                           << "camera.focal_length: must be between 0 and 100000 px (got -1)";
+    QTest::newRow("distortion without a lens") << QByteArray(R"({"camera": {"k1": -0.1}})")
+                                               << "camera.projection: lens distortion (k1, k2, p1, p2, k3) needs";
+    QTest::newRow("k1 too strong") << QByteArray(R"({"camera": {"preset": "realistic", "k1": -3}})")
+                                   << "camera.k1: must be between -1 and 1 (got -3)";
+    QTest::newRow("p2 too strong") << QByteArray(R"({"camera": {"preset": "realistic", "p2": 0.5}})")
+                                   << "camera.p2: must be between -0.1 and 0.1 (got 0.5)";
+    QTest::newRow("vignetting") << QByteArray(R"({"camera": {"vignetting": 1.5}})")
+                                << "camera.vignetting: must be between 0 and 1 (got 1.5)";
+    QTest::newRow("gain") << QByteArray(R"({"camera": {"gain_r": -1}})")
+                          << "camera.gain_r: must be between 0 and 4 (got -1)";
+    QTest::newRow("noise not a number") << QByteArray(R"({"camera": {"noise": "low"}})")
+                                        << "camera.noise: expected a number";
+    QTest::newRow("exposure") << QByteArray(R"({"camera": {"exposure": 1}})")
+                              << "camera.exposure: must be between 0 and 0.1 s (got 1)";
+    QTest::newRow("blur samples fractional") << QByteArray(R"({"camera": {"blur_samples": 2.5}})")
+                                             << "camera.blur_samples: must be a whole number (got 2.5)";
+    QTest::newRow("blur samples too few") << QByteArray(R"({"camera": {"blur_samples": 1}})")
+                                          << "camera.blur_samples: must be between 2 and 64 (got 1)";
+    QTest::newRow("latency") << QByteArray(R"({"camera": {"latency": -0.01}})")
+                             << "camera.latency: must be between 0 and 1 s (got -0.01)";
+    QTest::newRow("drop every frame") << QByteArray(R"({"camera": {"drop": 1}})")
+                                      << "camera.drop: must be between 0 and 0.9 (got 1)";
+    QTest::newRow("heading noise") << QByteArray(R"({"camera": {"heading_noise": 4}})")
+                                   << "camera.heading_noise: must be between 0 and 3.14159";
+    QTest::newRow("seed fractional") << QByteArray(R"({"camera": {"seed": 1.5}})")
+                                     << "camera.seed: must be a whole number (got 1.5)";
+    QTest::newRow("seed negative") << QByteArray(R"({"camera": {"seed": -1}})") << "camera.seed: must be between 0 and";
+}
+
+void TestSceneIo::badCamera() {
     QFETCH(QByteArray, json);
     QFETCH(QString, message);
     QString error;

@@ -33,6 +33,9 @@ const std::pair<const char*, CollisionModel> kCollisionModels[] = {{"paper", Col
 const std::pair<const char*, Team> kTeams[] = {{"yellow", Team::Yellow}, {"blue", Team::Blue}};
 const std::pair<const char*, TeamControl> kTeamControls[] = {
     {"builtin", TeamControl::Builtin}, {"remote", TeamControl::Remote}, {"idle", TeamControl::Idle}};
+const std::pair<const char*, CameraProjection> kProjections[] = {{"orthographic", CameraProjection::Orthographic},
+                                                                  {"pinhole", CameraProjection::Pinhole}};
+const std::pair<const char*, int> kCameraPresets[] = {{"ideal", 0}, {"realistic", 1}};
 const std::pair<const char*, FieldType> kFieldTypes[] = {
     {"box", FieldType::Box}, {"vsss_3v3", FieldType::Vsss3v3}, {"vsss_5v5", FieldType::Vsss5v5}};
 
@@ -72,6 +75,8 @@ class SceneReader {
 public:
     std::optional<Scene> read(const QJsonObject& root);
     QString error() const { return error_; }
+    // A `camera` object at `path` over `c` (its preset first, then each key).
+    bool camera(const QJsonObject& o, const QString& path, CameraSettings& c);
 
 private:
     bool fail(const QString& path, const QString& message) {
@@ -96,6 +101,7 @@ private:
     bool robots(const QJsonObject& root, const RobotParams& defaults, bool inertiaGiven, Scene& scene);
     bool commands(const QJsonObject& root, Scene& scene);
     bool game(const QJsonObject& root, Scene& scene);
+    bool camera(const QJsonObject& root, Scene& scene);
     bool insideField(const Scene& scene);
     bool bodiesFit(const Scene& scene);
 
@@ -391,6 +397,53 @@ bool SceneReader::game(const QJsonObject& root, Scene& scene) {
     return true;
 }
 
+bool SceneReader::camera(const QJsonObject& root, Scene& scene) {
+    if (!root.contains("camera")) return true;
+    QJsonObject o;
+    return object(root.value("camera"), "camera", &o) && camera(o, "camera", scene.camera);
+}
+
+bool SceneReader::camera(const QJsonObject& o, const QString& path, CameraSettings& c) {
+    if (!keys(o, path, {"preset", "projection", "height", "focal_length", "k1", "k2", "p1", "p2", "k3", "vignetting",
+                        "gradient_x", "gradient_y", "gain_b", "gain_g", "gain_r", "noise", "exposure", "blur_samples",
+                        "latency", "jitter", "drop", "position_noise", "heading_noise", "vanish", "seed"}))
+        return false;
+    int preset = -1;
+    if (!choice(o, path, "preset", kCameraPresets, &preset)) return false;
+    if (preset >= 0) c = preset == 0 ? idealCamera() : realisticCamera();
+    double samples = c.blur_samples, seed = static_cast<double>(c.seed);
+    if (!choice(o, path, "projection", kProjections, &c.projection) ||
+        !number(o, path, "height", kCameraHeight, &c.height) ||
+        !number(o, path, "focal_length", kFocalLength, &c.focal_length) ||
+        !number(o, path, "k1", kRadialDistortion, &c.k1) || !number(o, path, "k2", kRadialDistortion, &c.k2) ||
+        !number(o, path, "p1", kTangentialDistortion, &c.p1) ||
+        !number(o, path, "p2", kTangentialDistortion, &c.p2) || !number(o, path, "k3", kRadialDistortion, &c.k3) ||
+        !number(o, path, "vignetting", kVignetting, &c.vignetting) ||
+        !number(o, path, "gradient_x", kLightGradient, &c.gradient_x) ||
+        !number(o, path, "gradient_y", kLightGradient, &c.gradient_y) ||
+        !number(o, path, "gain_b", kColourGain, &c.gain_b) || !number(o, path, "gain_g", kColourGain, &c.gain_g) ||
+        !number(o, path, "gain_r", kColourGain, &c.gain_r) || !number(o, path, "noise", kSensorNoise, &c.noise) ||
+        !number(o, path, "exposure", kExposure, &c.exposure) ||
+        !number(o, path, "blur_samples", kBlurSamples, &samples) ||
+        !number(o, path, "latency", kCameraDelay, &c.latency) || !number(o, path, "jitter", kCameraDelay, &c.jitter) ||
+        !number(o, path, "drop", kLossProbability, &c.drop) ||
+        !number(o, path, "position_noise", kPositionNoise, &c.position_noise) ||
+        !number(o, path, "heading_noise", kHeadingNoise, &c.heading_noise) ||
+        !number(o, path, "vanish", kLossProbability, &c.vanish) || !number(o, path, "seed", kCameraSeed, &seed))
+        return false;
+    if (samples != std::floor(samples))
+        return fail(join(path, "blur_samples"), QStringLiteral("must be a whole number (got %1)").arg(samples));
+    if (seed != std::floor(seed))
+        return fail(join(path, "seed"), QStringLiteral("must be a whole number (got %1)").arg(seed, 0, 'g', 17));
+    c.blur_samples = static_cast<int>(samples);
+    c.seed = static_cast<std::uint64_t>(seed);
+    const bool distorted = c.k1 != 0 || c.k2 != 0 || c.p1 != 0 || c.p2 != 0 || c.k3 != 0;
+    if (c.projection == CameraProjection::Orthographic && distorted)
+        return fail(join(path, "projection"),
+                    QStringLiteral("lens distortion (k1, k2, p1, p2, k3) needs the \"pinhole\" projection"));
+    return true;
+}
+
 bool SceneReader::insideField(const Scene& scene) {
     const Field& field = scene.field;
     const double hx = field.length / 2, hy = field.width / 2;
@@ -460,7 +513,8 @@ bool SceneReader::bodiesFit(const Scene& scene) {
 
 std::optional<Scene> SceneReader::read(const QJsonObject& root) {
     Scene scene;
-    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands", "game"}))
+    if (!keys(root, "", {"version", "field", "simulation", "robot_defaults", "ball", "robots", "commands", "game",
+                         "camera"}))
         return std::nullopt;
     double version = 1.0;
     if (!number(root, "", "version", kAny, &version)) return std::nullopt;
@@ -477,7 +531,7 @@ std::optional<Scene> SceneReader::read(const QJsonObject& root) {
             return std::nullopt;
     }
     if (!field(root, scene) || !simulation(root, scene) || !ball(root, scene) ||
-        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !game(root, scene) ||
+        !robots(root, defaults, inertiaGiven, scene) || !commands(root, scene) || !game(root, scene) || !camera(root, scene) ||
         !insideField(scene) || !bodiesFit(scene))
         return std::nullopt;
     return scene;
@@ -686,8 +740,53 @@ QByteArray sceneToJson(const Scene& scene) {
     game["yellow"] = teamControlName(scene.game.yellow);
     game["blue"] = teamControlName(scene.game.blue);
     root["game"] = game;
+    root["camera"] = cameraSettingsToJson(scene.camera);
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
+
+QJsonObject cameraSettingsToJson(const CameraSettings& c) {
+    return {{"projection", nameOf(kProjections, c.projection)},
+            {"height", c.height},
+            {"focal_length", c.focal_length},
+            {"k1", c.k1},
+            {"k2", c.k2},
+            {"p1", c.p1},
+            {"p2", c.p2},
+            {"k3", c.k3},
+            {"vignetting", c.vignetting},
+            {"gradient_x", c.gradient_x},
+            {"gradient_y", c.gradient_y},
+            {"gain_b", c.gain_b},
+            {"gain_g", c.gain_g},
+            {"gain_r", c.gain_r},
+            {"noise", c.noise},
+            {"exposure", c.exposure},
+            {"blur_samples", c.blur_samples},
+            {"latency", c.latency},
+            {"jitter", c.jitter},
+            {"drop", c.drop},
+            {"position_noise", c.position_noise},
+            {"heading_noise", c.heading_noise},
+            {"vanish", c.vanish},
+            {"seed", static_cast<double>(c.seed)}};
+}
+
+std::optional<CameraSettings> cameraSettingsFromJson(const QJsonObject& camera, const CameraSettings& base,
+                                                     const QString& path, QString* error) {
+    SceneReader reader;
+    CameraSettings c = base;
+    if (reader.camera(camera, path, c)) return c;
+    if (error) *error = reader.error();
+    return std::nullopt;
+}
+
+QString cameraPresetName(const CameraSettings& camera) {
+    if (camera == idealCamera()) return QStringLiteral("ideal");
+    if (camera == realisticCamera()) return QStringLiteral("realistic");
+    return QStringLiteral("custom");
+}
+
+QString cameraProjectionName(CameraProjection projection) { return nameOf(kProjections, projection); }
 
 QStringList builtinSceneNames() {
     QStringList names;

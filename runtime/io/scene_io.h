@@ -83,6 +83,19 @@ QString gameTickProblem(double tick, double dt);
 // teams' controls), as WELCOME carries them.
 QJsonObject gameRulesToJson(const GameRules& rules);
 
+// The camera as a scene file's `camera` object writes it: every key, no
+// preset (docs/scenes.md, `camera`); WELCOME carries it too.
+QJsonObject cameraSettingsToJson(const CameraSettings& camera);
+// A `camera` object (a scene file's, or a HELLO's) applied over `base`: its
+// `preset` first ("ideal" or "realistic" replaces everything), then each key,
+// with the scene reader's checks; errors name the key under `path`
+// ("camera.noise: ...").
+std::optional<CameraSettings> cameraSettingsFromJson(const QJsonObject& camera, const CameraSettings& base,
+                                                     const QString& path, QString* error);
+// "ideal" or "realistic" when the settings are exactly that preset, "custom" otherwise.
+QString cameraPresetName(const CameraSettings& camera);
+QString cameraProjectionName(CameraProjection projection);  // "orthographic", "pinhole"
+
 // Names of the built-in example scenes, sorted.
 QStringList builtinSceneNames();
 

@@ -105,6 +105,27 @@ constexpr AllowedRange kRuleTime{0.0, 3600.0, true, "s"};
 constexpr AllowedRange kFreeBallDistance{0.0, 1.0, true, "m"};
 constexpr AllowedRange kGameTick{0.0, 1.0, true, "s"};
 
+// The camera (docs/scenes.md, `camera`; the ideal camera by default): a
+// camera above the robots' tops, a focal length from a pinhole to a long
+// lens (0 = automatic), a lens distortion that OpenCV's model still inverts
+// over the image, light and colour factors, a blur over up to 0.1 s, and
+// delays and probabilities a vision system could still work with.
+constexpr AllowedRange kCameraHeight{0.5, 20.0, false, "m"};
+constexpr AllowedRange kFocalLength{0.0, 100000.0, false, "px"};
+constexpr AllowedRange kRadialDistortion{-1.0, 1.0, false, ""};
+constexpr AllowedRange kTangentialDistortion{-0.1, 0.1, false, ""};
+constexpr AllowedRange kVignetting{0.0, 1.0, false, ""};
+constexpr AllowedRange kLightGradient{-0.5, 0.5, false, ""};
+constexpr AllowedRange kColourGain{0.0, 4.0, false, ""};
+constexpr AllowedRange kSensorNoise{0.0, 100.0, false, "grey levels"};
+constexpr AllowedRange kExposure{0.0, 0.1, false, "s"};
+constexpr AllowedRange kBlurSamples{2.0, 64.0, false, ""};
+constexpr AllowedRange kCameraDelay{0.0, 1.0, false, "s"};
+constexpr AllowedRange kLossProbability{0.0, 0.9, false, ""};
+constexpr AllowedRange kPositionNoise{0.0, 1.0, false, "m"};
+constexpr AllowedRange kHeadingNoise{0.0, 3.141592653589793, false, "rad"};
+constexpr AllowedRange kCameraSeed{0.0, 9007199254740992.0, false, ""};  // 2^53: exact as a JSON number
+
 }  // namespace scene_limits
 
 }  // namespace vssim

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "vssim/ball.h"
+#include "vssim/camera_settings.h"
 #include "vssim/collision_model.h"
 #include "vssim/field.h"
 #include "vssim/game_settings.h"
@@ -65,6 +66,7 @@ struct Scene {
     std::vector<RobotSpec> robots;
     std::vector<VoltageCommand> commands;  // any order; applied in time order, ties in file order
     GameSettings game;                     // the referee's rules and the teams' controllers (game/)
+    CameraSettings camera;                 // the overhead camera (runtime/camera/); ideal by default
 };
 
 }  // namespace vssim
