@@ -145,6 +145,8 @@ private:
     bool holdsFrames(Client& client);  // whether a new frame must wait for this client's socket
     bool lockstep() const;
     void flushPending(Client& client);
+    // Hands the client the frames its camera link has delivered by simulated time `now` (s).
+    void deliverDue(Client& client, double now);
     // Closes a client's connection: after its unsent bytes (a last ERROR) are
     // written, or `now`, discarding them (it is not reading).
     void drop(Client& client, const QString& why, bool now = false);
@@ -166,6 +168,7 @@ private:
     QJsonObject lastReferee_;  // the last REFEREE sent (empty before the first)
     SampleStats imageAgeMs_;   // from the camera instant to its FRAME's hand-over to the socket, ms
     int nextId_ = 1;
+    std::map<ClientRole, std::int64_t> greetedByRole_;  // clients greeted per role since the scene: their draw streams
 };
 
 }  // namespace vssim
