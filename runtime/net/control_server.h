@@ -23,6 +23,14 @@
 // (beyond kReadAheadBytes), so TCP slows a sender the server cannot keep up
 // with. A turn's VOLTAGES reach the engine as one request, the newest per
 // robot.
+//
+// Each client has its own camera link (docs/protocol.md, FRAME, Delivery):
+// the scene's camera with its HELLO's `camera` over it. Its frames (with
+// their STATE, noisy as its camera makes it: wire/state_message.h) wait in
+// its FrameDelivery until simulated time reaches their delivery time, which
+// is checked at each camera instant, REPLY and REFEREE; only then do they
+// meet the flow control above. With the ideal camera they go at once, as
+// they always did.
 #pragma once
 
 #include <QHostAddress>
