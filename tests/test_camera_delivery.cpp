@@ -201,6 +201,26 @@ private slots:
         if (!afterReset.empty()) QCOMPARE(afterReset[0].frameMessage, QByteArray("again"));
     }
 
+    void linkHoldsAtMostItsBytes() {
+        // 1 s of latency with 1 kB frames every 10 ms and room for 10 kB: the
+        // 10 newest wait, the older ones are dropped, oldest first.
+        CameraSettings camera;
+        camera.latency = 1.0;
+        FrameDelivery link(camera, 1, 10'000);
+        for (int f = 0; f < 50; ++f) link.capture({f, 0.01 * f, 0, QByteArray(900, 'f'), QByteArray(100, 's')});
+        QCOMPARE(link.waiting(), std::size_t(10));
+        QCOMPARE(link.waitingBytes(), qint64(10'000));
+        QCOMPARE(link.overflowed(), std::int64_t(40));
+        QCOMPARE(link.dropped(), std::int64_t(0));
+        const auto due = link.due(2.0);
+        QCOMPARE(due.size(), std::size_t(10));
+        QCOMPARE(due.front().frame, std::int64_t(40));
+        QCOMPARE(link.waitingBytes(), qint64(0));
+        // One frame larger than the room still waits (the newest always does).
+        link.capture({50, 0.5, 0, QByteArray(20'000, 'f'), {}});
+        QCOMPARE(link.waiting(), std::size_t(1));
+    }
+
     void observedPoseNoiseAndVanishing() {
         CameraSettings camera;
         camera.position_noise = 0.004, camera.heading_noise = 0.03, camera.vanish = 0.05, camera.seed = 11;

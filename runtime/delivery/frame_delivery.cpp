@@ -4,7 +4,8 @@
 
 namespace vssim {
 
-FrameDelivery::FrameDelivery(const CameraSettings& camera, std::uint64_t stream) : camera_(camera), stream_(stream) {}
+FrameDelivery::FrameDelivery(const CameraSettings& camera, std::uint64_t stream, qint64 maxBytes)
+    : camera_(camera), stream_(stream), maxBytes_(maxBytes) {}
 
 bool FrameDelivery::immediate() const { return camera_.latency == 0.0 && camera_.jitter == 0.0 && camera_.drop == 0.0; }
 
@@ -19,6 +20,7 @@ std::optional<double> FrameDelivery::scheduled(std::int64_t frame, double time) 
 void FrameDelivery::rewindTo(double time) {
     if (haveLast_ && time < lastTime_ - kDueTolerance) {
         queue_.clear();
+        bytes_ = 0;
         haveLast_ = false;
     }
 }
@@ -37,7 +39,14 @@ void FrameDelivery::capture(Captured captured) {
     }
     // Never ahead of the frame before it.
     lastDue_ = std::max(lastDue_, *at);
+    bytes_ += captured.frameMessage.size() + captured.stateMessage.size();
     queue_.emplace_back(lastDue_, std::move(captured));
+    while (bytes_ > maxBytes_ && queue_.size() > 1) {
+        const Captured& oldest = queue_.front().second;
+        bytes_ -= oldest.frameMessage.size() + oldest.stateMessage.size();
+        queue_.pop_front();
+        ++overflowed_;
+    }
 }
 
 std::vector<FrameDelivery::Captured> FrameDelivery::due(double now) {
@@ -45,7 +54,9 @@ std::vector<FrameDelivery::Captured> FrameDelivery::due(double now) {
     if (haveLast_) lastTime_ = std::max(lastTime_, now);
     std::vector<Captured> out;
     while (!queue_.empty() && queue_.front().first <= now + kDueTolerance) {
-        out.push_back(std::move(queue_.front().second));
+        Captured& front = queue_.front().second;
+        bytes_ -= front.frameMessage.size() + front.stateMessage.size();
+        out.push_back(std::move(front));
         queue_.pop_front();
     }
     return out;

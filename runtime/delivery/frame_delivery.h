@@ -7,6 +7,9 @@
 // are camera_draws.h's, keyed by (seed, the client's stream, frame number),
 // so a lockstep run repeats exactly.
 //
+// What waits is bounded (maxBytes): beyond, the oldest frame waiting is
+// dropped (overflowed()), as a camera pipeline's full buffer would.
+//
 // The server asks what is due whenever it learns the simulated time (a
 // camera instant, a reply), so in real time a delay ends at the first such
 // moment at or after it: rounded up to the next camera instant.
@@ -39,7 +42,8 @@ public:
     static constexpr double kDueTolerance = 1e-9;
 
     FrameDelivery() = default;  // the ideal link: every frame due at its capture
-    FrameDelivery(const CameraSettings& camera, std::uint64_t stream);
+    // `maxBytes`: the frames' bytes that may wait (at least the newest frame always does).
+    FrameDelivery(const CameraSettings& camera, std::uint64_t stream, qint64 maxBytes = qint64{8} << 20);
 
     // No latency, no jitter, no drops: every frame is due the moment it is captured.
     bool immediate() const;
@@ -56,18 +60,23 @@ public:
     std::vector<Captured> due(double now);
 
     std::size_t waiting() const { return queue_.size(); }
-    std::int64_t dropped() const { return dropped_; }  // frames the link dropped so far
+    std::int64_t dropped() const { return dropped_; }        // frames the link dropped so far (`drop`)
+    std::int64_t overflowed() const { return overflowed_; }  // frames dropped for want of room (maxBytes)
+    qint64 waitingBytes() const { return bytes_; }
 
 private:
     void rewindTo(double time);
 
     CameraSettings camera_;
     std::uint64_t stream_ = 0;
+    qint64 maxBytes_ = qint64{8} << 20;
     std::deque<std::pair<double, Captured>> queue_;  // (due time, s; the frame), due times non-decreasing
     double lastDue_ = 0.0;      // s, the latest due time given; only meaningful while haveLast_
     double lastTime_ = 0.0;     // s, the latest capture or `now` seen
     bool haveLast_ = false;
     std::int64_t dropped_ = 0;
+    std::int64_t overflowed_ = 0;
+    qint64 bytes_ = 0;  // the waiting frames' FRAME and STATE bytes
 };
 
 }  // namespace vssim

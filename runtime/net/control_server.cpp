@@ -94,8 +94,9 @@ std::vector<ClientInfo> ControlServer::clients() const {
         info.state = c->hello.state;
         info.commands = c->commands;
         info.framesSent = c->framesSent;
-        info.framesDropped = c->framesDropped;
-        info.unsentBytes = unsent(*c) + c->pendingFrame.size() + c->pendingState.size();
+        info.framesDropped = c->framesDropped + c->delivery.overflowed();
+        info.unsentBytes =
+            unsent(*c) + c->pendingFrame.size() + c->pendingState.size() + c->delivery.waitingBytes();
         info.errorsNotSent = c->errorsNotSent;
         info.unreadBytes = c->socket->bytesAvailable() + static_cast<qint64>(c->reader.buffered());
         info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
@@ -501,7 +502,7 @@ void ControlServer::greet(Client& client, const QJsonObject& json) {
     const std::int64_t ordinal = greetedByRole_[hello->role]++;
     client.camera = camera;
     client.stream = clientStream(static_cast<int>(hello->role), hello->camera.contains("seed") ? 0 : ordinal);
-    client.delivery = FrameDelivery(camera, client.stream);
+    client.delivery = FrameDelivery(camera, client.stream, settings_.maxUnsentBytes);
     client.hello = *hello;
     client.greeted = true;
     client.helloTimer->stop();

@@ -29,8 +29,8 @@
 // their STATE, noisy as its camera makes it: wire/state_message.h) wait in
 // its FrameDelivery until simulated time reaches their delivery time, which
 // is checked at each camera instant, REPLY and REFEREE; only then do they
-// meet the flow control above. With the ideal camera they go at once, as
-// they always did.
+// meet the flow control above; at most maxUnsentBytes wait in the link (the
+// oldest go beyond). With the ideal camera they go at once, as they always did.
 #pragma once
 
 #include <QHostAddress>
@@ -80,7 +80,7 @@ struct ClientInfo {
     QString images;  // e.g. "patches/png", or "none"
     bool state = false;
     std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
-    qint64 unsentBytes = 0;          // written for it and not yet taken by the kernel, plus what waits
+    qint64 unsentBytes = 0;          // written for it and not yet taken by the kernel, plus what waits (its camera link's too)
     qint64 unreadBytes = 0;          // received from it and not handled yet (the rest waits in the kernel)
     std::int64_t errorsNotSent = 0;  // ERROR replies withheld: more than kMaxErrorsPerWindow
     double connectedSeconds = 0.0;
