@@ -72,6 +72,12 @@ QString serveHelpText() {
                "                       with goals), overriding the scene's game.referee; external: off, for a\n"
                "                       referee of your own such as VSSReferee (needs --firasim; the FIRASim\n"
                "                       vision then counts the goals from the ball)\n"
+               "  --camera ideal|realistic\n"
+               "                       the camera preset, replacing the scene's camera (docs/scenes.md):\n"
+               "                       ideal is today's exact top view and instant delivery; realistic a\n"
+               "                       webcam's lens, light, noise, blur, 50 ms latency and drops, and\n"
+               "                       centimetre-scale noise on STATE and the FIRASim vision. A client's\n"
+               "                       HELLO may still set its own delivery and noise (docs/protocol.md)\n"
                "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
                "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
                "  -h, --help           this help\n"
@@ -140,6 +146,7 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption yellow("yellow", "control", "CONTROL");
     const QCommandLineOption blue("blue", "control", "CONTROL");
     const QCommandLineOption referee("referee", "on|off|external", "ON");
+    const QCommandLineOption camera("camera", "ideal|realistic", "PRESET");
     const QCommandLineOption firasim("firasim", "firasim");
     const QCommandLineOption firasimPort("firasim-port", "port", "N");
     const QCommandLineOption visionAddress("vision-address", "address", "ADDR");
@@ -155,7 +162,7 @@ int serveCommand(const QStringList& arguments) {
                        paused,        helloTimeout, quitAfter,  sceneCommands, readOnlyObservers,
                        yellow,        blue,         referee,    firasim,       firasimPort,
                        visionAddress, visionPort,   visionRate, multicastTtl,  firasimSync,
-                       vssref,        vssrefAddress, vssrefCommandPort, vssrefPlacementPort});
+                       vssref,        vssrefAddress, vssrefCommandPort, vssrefPlacementPort, camera});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -322,6 +329,12 @@ int serveCommand(const QStringList& arguments) {
         if (scene->game.rules.referee && !fieldHasGoals(scene->field))
             return usage(QStringLiteral("--referee on: %1: %2").arg(scenePath, refereeFieldProblem()));
     }
+    if (parser.isSet(camera)) {
+        const QString text = parser.value(camera);
+        if (text != "ideal" && text != "realistic")
+            return usage(QStringLiteral("--camera: expected ideal or realistic, got \"%1\"").arg(text));
+        scene->camera = text == "ideal" ? idealCamera() : realisticCamera();
+    }
     const std::size_t scheduled = scene->commands.size();
     if (!parser.isSet(sceneCommands)) scene->commands.clear();
     if (scene->robots.size() > 255) {
@@ -380,7 +393,8 @@ int serveCommand(const QStringList& arguments) {
             << ", placements on " << ref.placementAddress.toString() << ":" << vssrefBridge->placementPort() << "\n";
     out.flush();
     const GameSettings& game = scene->game;
-    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7; referee %8, yellow %9, blue %10")
+    log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7; referee %8, yellow %9, blue %10; "
+                       "camera %11")
             .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName())
                                             : scenePath)
             .arg(scene->robots.size())
@@ -393,7 +407,8 @@ int serveCommand(const QStringList& arguments) {
             .arg(server.readOnlyObservers ? QStringLiteral("; observers are read-only") : QString())
             .arg(game.rules.referee ? "on" : "off")
             .arg(game.yellow == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.yellow))
-            .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue)));
+            .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue))
+            .arg(cameraPresetName(scene->camera)));
 
     if (firasimServer)
         log(QStringLiteral("firasim: %1 vision every %2 s of simulated time on average (%3 Hz; %6 Hz asked for, "

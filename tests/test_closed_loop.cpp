@@ -134,6 +134,7 @@ private slots:
         QCOMPARE(help.exitCode, 0);
         QVERIFY(help.out.contains("--lockstep") && help.out.contains("docs/protocol.md"));
         QVERIFY(help.out.contains("--firasim") && help.out.contains("--vssref") && help.out.contains("docs/firasim.md"));
+        QVERIFY(help.out.contains("--camera ideal|realistic"));
         const struct {
             QStringList args;
             const char* says;
@@ -161,6 +162,7 @@ private slots:
             {{"serve", "kickoff_3v3", "--firasim-sync", "--speed", "2"}, "exclude"},
             {{"serve", "kickoff_3v3", "--referee", "external"}, "--referee external needs --firasim"},
             {{"serve", "kickoff_3v3", "--referee", "maybe"}, "--referee"},
+            {{"serve", "kickoff_3v3", "--camera", "fisheye"}, "--camera: expected ideal or realistic, got \"fisheye\""},
             {{"serve", "kickoff_3v3", "--vssref-address", "127.0.0.1"}, "--vssref-address needs --vssref"},
             {{"serve", "kickoff_3v3", "--vssref", "--referee", "off"}, "--vssref speaks for the built-in referee"},
             {{"serve", "kickoff_3v3", "--vssref", "--vssref-placement-port", "0"}, "--vssref-placement-port"},

@@ -20,6 +20,7 @@ void VisionFeed::activate(const Scene& scene, bool countGoals, std::function<voi
     roster_.emplace(scene);
     field_ = scene.field;
     ballRadius_ = scene.ball_params.radius;
+    camera_ = scene.camera;
     fieldMessage_ = firasimField(scene.field);
     counter_.reset();
     onField_.assign(scene.robots.size(), 1);
@@ -83,7 +84,7 @@ void VisionFeed::observe(const InstantRecord& record) {
             goals = {counter_.goals(Team::Yellow), counter_.goals(Team::Blue)};
         }
         const fira_message::sim_to_ref::Environment env =
-            firasimEnvironment(fieldMessage_, *roster_, record.world, record.step, onField_, goals);
+            firasimEnvironment(fieldMessage_, *roster_, record.world, record.step, onField_, goals, camera_, record.frame);
         VisionItem item;
         item.bytes.resize(static_cast<qsizetype>(env.ByteSizeLong()));
         env.SerializeToArray(item.bytes.data(), static_cast<int>(item.bytes.size()));

@@ -10,6 +10,9 @@
 // counting on, goals counted from the ball at each camera instant
 // (goal_counter.h); otherwise 0:0.
 //
+// The scene's camera adds its ground-truth noise to the positions (and
+// leaves vanished bodies out), drawn per camera instant (vision_packet.h).
+//
 // Which robots are on the field: the server says (setOnField) when it takes
 // a robot off (FIRASim's turnon false) or brings it back; those off are left
 // out of the vision.
@@ -77,6 +80,7 @@ private:
     std::optional<TeamRoster> roster_;
     Field field_;
     double ballRadius_ = 0.0;
+    CameraSettings camera_;  // the scene's: its ground-truth noise shows in the vision
     fira_message::Field fieldMessage_;
     GoalCounter counter_;
     std::vector<char> onField_;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "delivery/ground_truth_noise.h"
 #include "vssim/game/game_state.h"
 
 namespace vssim {
@@ -25,28 +26,36 @@ fira_message::Field firasimField(const Field& field) {
 fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Field& field, const TeamRoster& roster,
                                                          const WorldState& world, std::int64_t step,
                                                          const std::vector<char>& onField,
-                                                         const std::array<int, 2>& goals) {
+                                                         const std::array<int, 2>& goals, const CameraSettings& camera,
+                                                         std::int64_t frame) {
     fira_message::sim_to_ref::Environment env;
     env.set_step(static_cast<std::uint32_t>(step));
-    fira_message::Frame* frame = env.mutable_frame();
-    fira_message::Ball* ball = frame->mutable_ball();
-    ball->set_x(world.ball.x);
-    ball->set_y(world.ball.y);
-    ball->set_z(0.0);
-    ball->set_vx(world.ball.vx);
-    ball->set_vy(world.ball.vy);
-    ball->set_vz(0.0);
+    fira_message::Frame* out = env.mutable_frame();
+    CameraDrawKey key{camera.seed, kFirasimStream, frame, kBallBody};
+    const ObservedPose seenBall = observePose(camera, key, world.ball.x, world.ball.y, 0.0);
+    if (seenBall.visible) {
+        fira_message::Ball* ball = out->mutable_ball();
+        ball->set_x(seenBall.x);
+        ball->set_y(seenBall.y);
+        ball->set_z(0.0);
+        ball->set_vx(world.ball.vx);
+        ball->set_vy(world.ball.vy);
+        ball->set_vz(0.0);
+    }
     for (Team team : {Team::Yellow, Team::Blue}) {
         for (int index : roster.members(team)) {
             if (index >= static_cast<int>(world.robots.size())) continue;
             if (index < static_cast<int>(onField.size()) && !onField[index]) continue;
             const RobotState& s = world.robots[index];
-            fira_message::Robot* r = team == Team::Yellow ? frame->add_robots_yellow() : frame->add_robots_blue();
+            key.body = static_cast<std::uint64_t>(index);
+            const ObservedPose seen = observePose(camera, key, s.x, s.y, s.theta);
+            if (!seen.visible) continue;
+            fira_message::Robot* r = team == Team::Yellow ? out->add_robots_yellow() : out->add_robots_blue();
             r->set_robot_id(roster.idOf(index));
-            r->set_x(s.x);
-            r->set_y(s.y);
+            r->set_x(seen.x);
+            r->set_y(seen.y);
             // Wrapped to [-pi, pi], as FIRASim reports it (the engine's theta accumulates turns).
-            r->set_orientation(std::remainder(s.theta, 2.0 * 3.14159265358979323846));
+            r->set_orientation(std::remainder(seen.theta, 2.0 * 3.14159265358979323846));
             r->set_vx(s.v * std::cos(s.theta));
             r->set_vy(s.v * std::sin(s.theta));
             r->set_vorientation(s.omega);

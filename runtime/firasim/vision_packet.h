@@ -12,6 +12,7 @@
 
 #include "fira_packet.pb.h"
 #include "firasim/team_roster.h"
+#include "vssim/camera_settings.h"
 #include "vssim/field.h"
 #include "vssim/world_model.h"
 
@@ -28,9 +29,18 @@ fira_message::Field firasimField(const Field& field);
 // out; each robot's orientation is wrapped to [-pi, pi], its vx, vy is its
 // forward speed v along its heading and vorientation its yaw rate. goals: by
 // team, [Yellow] and [Blue]. The ball is at z = 0 (it rolls).
+//
+// `camera`'s ground-truth noise (delivery/ground_truth_noise.h) applies to
+// the positions and orientations, drawn for camera instant `frame` on the
+// FIRASim stream (kFirasimStream): metres and radians, the packet's own
+// units. A robot that vanishes is left out of its team's list; a ball that
+// vanishes leaves the frame without `ball` (proto3: has_ball() false).
+// Speeds stay exact. The ideal camera changes nothing.
 fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Field& field, const TeamRoster& roster,
                                                          const WorldState& world, std::int64_t step,
                                                          const std::vector<char>& onField,
-                                                         const std::array<int, 2>& goals);
+                                                         const std::array<int, 2>& goals,
+                                                         const CameraSettings& camera = idealCamera(),
+                                                         std::int64_t frame = 0);
 
 }  // namespace vssim

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "io/scene_io.h"
 #include "realtime/engine_loop.h"
 
 namespace vssim {
@@ -137,6 +138,40 @@ constexpr std::pair<const char*, ImageEncoding> kEncodings[] = {
 
 }  // namespace
 
+const QStringList kHelloCameraKeys{"latency", "jitter", "drop", "position_noise", "heading_noise", "vanish", "seed"};
+
+namespace {
+
+// HELLO's `camera`: an object of per-client keys with the scene reader's
+// ranges; an image-formation key is named as the scene's to set.
+bool checkHelloCamera(const QJsonValue& value, RequestError* error) {
+    auto malformed = [&](const QString& message) {
+        *error = {QStringLiteral("malformed"), QStringLiteral("HELLO: ") + message};
+        return false;
+    };
+    if (!value.isObject()) return malformed(QStringLiteral("camera: expected an object"));
+    const QJsonObject camera = value.toObject();
+    // Every key a scene's camera takes, and its preset.
+    QStringList sceneKeys = cameraSettingsToJson(idealCamera()).keys();
+    sceneKeys << QStringLiteral("preset");
+    for (auto it = camera.begin(); it != camera.end(); ++it) {
+        if (kHelloCameraKeys.contains(it.key())) continue;
+        const QString where = QStringLiteral("camera.") + printableText(it.key(), 40);
+        if (sceneKeys.contains(it.key()))
+            return malformed(QStringLiteral("%1: the image formation (\"%2\") is per scene, the same for every "
+                                            "client: set it in the scene file's camera (or vssim serve --camera); "
+                                            "a HELLO's camera takes only %3")
+                                 .arg(where, it.key(), kHelloCameraKeys.join(", ")));
+        return malformed(
+            QStringLiteral("%1: unknown key (expected one of: %2)").arg(where, kHelloCameraKeys.join(", ")));
+    }
+    QString message;
+    if (!cameraSettingsFromJson(camera, idealCamera(), QStringLiteral("camera"), &message)) return malformed(message);
+    return true;
+}
+
+}  // namespace
+
 std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
     RequestReader in(json, QStringLiteral("HELLO"));
     auto failed = [&] {
@@ -157,7 +192,7 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
     Hello hello;
     ImagesWanted images = ImagesWanted::Patches;
     ImageSubscription sub;
-    if (!in.keys({"protocol", "role", "name", "images", "encoding", "jpeg_quality", "state"}) ||
+    if (!in.keys({"protocol", "role", "name", "images", "encoding", "jpeg_quality", "state", "camera"}) ||
         !in.choice("role", kRoles, {}, &hello.role))
         return failed();
     const QJsonValue name = json.value("name");
@@ -172,6 +207,10 @@ std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error) {
         return failed();
     sub.kind = images == ImagesWanted::Full ? protocol::FrameKind::Full : protocol::FrameKind::Patches;
     if (images != ImagesWanted::None) hello.images = sub;
+    if (json.contains("camera")) {
+        if (!checkHelloCamera(json.value("camera"), error)) return std::nullopt;
+        hello.camera = json.value("camera").toObject();
+    }
     return hello;
 }
 

@@ -30,7 +30,14 @@ struct Hello {
     QString name;
     std::optional<ImageSubscription> images;  // none: no images
     bool state = false;
+    // HELLO's `camera`: this client's own delivery and ground-truth noise
+    // over the scene's camera (kHelloCameraKeys only, checked); empty: none.
+    QJsonObject camera;
 };
+
+// The keys a HELLO's `camera` may have: the per-client part of CameraSettings
+// (delivery and ground-truth noise). Image formation is the scene's.
+extern const QStringList kHelloCameraKeys;
 
 std::optional<Hello> parseHello(const QJsonObject& json, RequestError* error);
 

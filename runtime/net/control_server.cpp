@@ -5,9 +5,13 @@
 #include <QTimer>
 #include <deque>
 
+#include "camera/camera_lens.h"
+#include "delivery/frame_delivery.h"
+#include "delivery/ground_truth_noise.h"
 #include "io/scene_io.h"
 #include "realtime/monotonic_clock.h"
 #include "wire/game_message.h"
+#include "wire/state_message.h"
 
 namespace vssim {
 
@@ -70,6 +74,11 @@ struct ControlServer::Client {
     std::int64_t commands = 0;   // VOLTAGES accepted
     std::int64_t framesSent = 0;
     std::int64_t connectedNs = 0;  // monotonicNs() at connection
+    // Its camera (docs/protocol.md, FRAME and STATE): the scene's, with its
+    // HELLO's overrides; the stream of its draws; its link's frames on their way.
+    CameraSettings camera;
+    std::uint64_t stream = 0;
+    FrameDelivery delivery;
 };
 
 std::vector<ClientInfo> ControlServer::clients() const {
@@ -85,8 +94,9 @@ std::vector<ClientInfo> ControlServer::clients() const {
         info.state = c->hello.state;
         info.commands = c->commands;
         info.framesSent = c->framesSent;
-        info.framesDropped = c->framesDropped;
-        info.unsentBytes = unsent(*c) + c->pendingFrame.size() + c->pendingState.size();
+        info.framesDropped = c->framesDropped + c->delivery.overflowed();
+        info.unsentBytes =
+            unsent(*c) + c->pendingFrame.size() + c->pendingState.size() + c->delivery.waitingBytes();
         info.errorsNotSent = c->errorsNotSent;
         info.unreadBytes = c->socket->bytesAvailable() + static_cast<qint64>(c->reader.buffered());
         info.connectedSeconds = 1e-9 * static_cast<double>(monotonicNs() - c->connectedNs);
@@ -102,6 +112,7 @@ void ControlServer::setScene(const Scene& scene) {
         sendError(*client, {"scene_changed", "the server loaded another scene: connect again"}, true);
     scene_ = scene;
     lastReferee_ = {};
+    greetedByRole_.clear();
     background_ = CameraRenderer(scene);
 }
 
@@ -476,6 +487,22 @@ void ControlServer::greet(Client& client, const QJsonObject& json) {
                     true);
         }
     }
+    // Its camera: the scene's, with the HELLO's delivery and noise over it
+    // (already checked against every range: parseHello).
+    CameraSettings camera = scene_.camera;
+    if (!hello->camera.isEmpty()) {
+        QString message;
+        const std::optional<CameraSettings> own =
+            cameraSettingsFromJson(hello->camera, scene_.camera, QStringLiteral("camera"), &message);
+        if (!own) return sendError(client, {"malformed", QStringLiteral("HELLO: ") + message}, true);
+        camera = *own;
+    }
+    // Draws of its own, the same in every run that greets the same roles in
+    // the same order; a client that gives its seed gets its role's first stream.
+    const std::int64_t ordinal = greetedByRole_[hello->role]++;
+    client.camera = camera;
+    client.stream = clientStream(static_cast<int>(hello->role), hello->camera.contains("seed") ? 0 : ordinal);
+    client.delivery = FrameDelivery(camera, client.stream, settings_.maxUnsentBytes);
     client.hello = *hello;
     client.greeted = true;
     client.helloTimer->stop();
@@ -524,6 +551,16 @@ QJsonObject ControlServer::welcome(const Client& client) const {
     cameraJson["images"] =
         client.hello.images ? (client.hello.images->kind == protocol::FrameKind::Full ? "full" : "patches") : "none";
     if (client.hello.images) cameraJson["encoding"] = encodingName(client.hello.images->encoding);
+    // The lens, OpenCV's convention (pixel centres at whole numbers), and this client's settings.
+    const CameraLens lens = cameraLensFor(scene_.camera, camera);
+    const cv::Matx33d k = cameraMatrix(lens);
+    const cv::Vec<double, 5> d = distortionCoefficients(lens);
+    cameraJson["projection"] = cameraProjectionName(scene_.camera.projection);
+    cameraJson["mount_height"] = scene_.camera.height;
+    cameraJson["matrix"] = QJsonArray{QJsonArray{k(0, 0), k(0, 1), k(0, 2)}, QJsonArray{k(1, 0), k(1, 1), k(1, 2)},
+                                      QJsonArray{k(2, 0), k(2, 1), k(2, 2)}};
+    cameraJson["distortion"] = QJsonArray{d[0], d[1], d[2], d[3], d[4]};
+    cameraJson["settings"] = cameraSettingsToJson(client.camera);
     const double dt = scene_.simulation.dt;
     const double framePeriod = engine_.framePeriod();
     return QJsonObject{
@@ -719,20 +756,37 @@ void ControlServer::drainEngine() {
                     for (const auto& [sub, bytes] : item.frame->images)
                         if (sub == *client->hello.images) frame = bytes;
                 if (client->hello.state) state = item.frame->state;
-                sendNewest(*client, frame, state, item.frame->instantNs);
+                if (frame.isEmpty() && state.isEmpty()) continue;
+                // Its camera's noise on the ground truth, drawn for it alone.
+                if (!state.isEmpty() && hasGroundTruthNoise(client->camera))
+                    state = protocol::encodeJsonMessage(
+                        protocol::MessageType::State,
+                        observedStateJson(item.frame->stateJson, client->camera, client->stream));
+                if (client->delivery.immediate()) {
+                    sendNewest(*client, frame, state, item.frame->instantNs);
+                    continue;
+                }
+                client->delivery.capture({item.frame->frame, item.frame->time, item.frame->instantNs, frame, state});
+                deliverDue(*client, item.frame->time);
             }
         } else if (item.reply && item.reply->referee) {
             // The game's state changed: every client is told.
             lastReferee_ = *item.reply->referee;
             const QByteArray bytes = protocol::encodeJsonMessage(protocol::MessageType::Referee, lastReferee_);
-            for (auto& [id, client] : clients_)
-                if (client->greeted && !client->closing) send(*client, bytes);
+            const double time = lastReferee_.value("time").toDouble();
+            for (auto& [id, client] : clients_) {
+                if (!client->greeted || client->closing) continue;
+                deliverDue(*client, time);  // the frames its camera delivered by then go first
+                send(*client, bytes);
+            }
         } else if (item.reply) {
             const EngineReply& r = *item.reply;
             auto it = clients_.find(r.client);
             if (it == clients_.end()) continue;
             Client& client = *it->second;
             if (r.stats) client.statsPending = false;
+            // The frames its camera delivered by the reply's instant go before it; later ones after.
+            deliverDue(client, r.time);
             if (r.kind == EngineRequest::Kind::Step && !client.steps.empty()) {
                 const double done = client.steps.front();
                 client.steps.pop_front();
@@ -760,6 +814,12 @@ void ControlServer::drainEngine() {
             send(client, protocol::encodeJsonMessage(protocol::MessageType::Reply, json));
         }
     }
+}
+
+void ControlServer::deliverDue(Client& client, double now) {
+    if (client.closing || client.delivery.immediate()) return;
+    for (FrameDelivery::Captured& due : client.delivery.due(now))
+        sendNewest(client, std::move(due.frameMessage), std::move(due.stateMessage), due.instantNs);
 }
 
 void ControlServer::updateSubscriptions() {

@@ -23,6 +23,14 @@
 // (beyond kReadAheadBytes), so TCP slows a sender the server cannot keep up
 // with. A turn's VOLTAGES reach the engine as one request, the newest per
 // robot.
+//
+// Each client has its own camera link (docs/protocol.md, FRAME, Delivery):
+// the scene's camera with its HELLO's `camera` over it. Its frames (with
+// their STATE, noisy as its camera makes it: wire/state_message.h) wait in
+// its FrameDelivery until simulated time reaches their delivery time, which
+// is checked at each camera instant, REPLY and REFEREE; only then do they
+// meet the flow control above; at most maxUnsentBytes wait in the link (the
+// oldest go beyond). With the ideal camera they go at once, as they always did.
 #pragma once
 
 #include <QHostAddress>
@@ -72,7 +80,7 @@ struct ClientInfo {
     QString images;  // e.g. "patches/png", or "none"
     bool state = false;
     std::int64_t commands = 0, framesSent = 0, framesDropped = 0;
-    qint64 unsentBytes = 0;          // written for it and not yet taken by the kernel, plus what waits
+    qint64 unsentBytes = 0;          // written for it and not yet taken by the kernel, plus what waits (its camera link's too)
     qint64 unreadBytes = 0;          // received from it and not handled yet (the rest waits in the kernel)
     std::int64_t errorsNotSent = 0;  // ERROR replies withheld: more than kMaxErrorsPerWindow
     double connectedSeconds = 0.0;
@@ -145,6 +153,8 @@ private:
     bool holdsFrames(Client& client);  // whether a new frame must wait for this client's socket
     bool lockstep() const;
     void flushPending(Client& client);
+    // Hands the client the frames its camera link has delivered by simulated time `now` (s).
+    void deliverDue(Client& client, double now);
     // Closes a client's connection: after its unsent bytes (a last ERROR) are
     // written, or `now`, discarding them (it is not reading).
     void drop(Client& client, const QString& why, bool now = false);
@@ -166,6 +176,7 @@ private:
     QJsonObject lastReferee_;  // the last REFEREE sent (empty before the first)
     SampleStats imageAgeMs_;   // from the camera instant to its FRAME's hand-over to the socket, ms
     int nextId_ = 1;
+    std::map<ClientRole, std::int64_t> greetedByRole_;  // clients greeted per role since the scene: their draw streams
 };
 
 }  // namespace vssim

@@ -216,7 +216,8 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
     if (stateWanted) {
         const Match& match = loop_->match();
         const GameState* game = match.scene().game.rules.referee ? &match.game() : nullptr;
-        job.state = protocol::encodeJsonMessage(protocol::MessageType::State, stateJson(sim, frame, game));
+        job.stateJson = stateJson(sim, frame, game);
+        job.state = protocol::encodeJsonMessage(protocol::MessageType::State, job.stateJson);
     }
     encoder_->submit(std::move(job));
 }

@@ -62,6 +62,7 @@ std::shared_ptr<const FramePacket> FrameEncoder::encode(const EncodeJob& job) {
     packet->time = job.time;
     packet->instantNs = job.instantNs;
     packet->state = job.state;
+    packet->stateJson = job.stateJson;
     for (const ImageSubscription& s : job.subscriptions) {
         const std::int64_t startNs = monotonicNs();
         protocol::FrameHeader header;

@@ -31,6 +31,7 @@ struct EncodeJob {
     std::vector<cv::Rect> patches;  // CameraRenderer::render's patches
     std::vector<ImageSubscription> subscriptions;
     QByteArray state;  // the complete STATE message, or empty
+    QJsonObject stateJson;  // its JSON
 };
 
 class FrameEncoder {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <QByteArray>
+#include <QJsonObject>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -32,6 +33,7 @@ struct FramePacket {
     std::int64_t instantNs = 0;  // monotonicNs() when the engine reached the instant (for the images' age)
     std::vector<std::pair<ImageSubscription, QByteArray>> images;  // complete FRAME messages
     QByteArray state;  // complete STATE message; empty when nobody subscribed
+    QJsonObject stateJson;  // its JSON, for clients whose camera adds noise (wire/state_message.h)
 };
 
 }  // namespace vssim

@@ -2,6 +2,7 @@
 
 #include <QJsonArray>
 
+#include "delivery/ground_truth_noise.h"
 #include "wire/game_message.h"
 
 namespace vssim {
@@ -36,6 +37,45 @@ QJsonObject stateJson(const Simulation& sim, std::int64_t frame, const GameState
     };
     if (game) json["game"] = gameStateJson(*game);
     return json;
+}
+
+QJsonObject observedStateJson(const QJsonObject& exact, const CameraSettings& camera, std::uint64_t stream) {
+    if (!hasGroundTruthNoise(camera)) return exact;
+    const bool vanishing = camera.vanish > 0.0;
+    CameraDrawKey key{camera.seed, stream, static_cast<std::int64_t>(exact.value("frame").toDouble()), kWholeFrame};
+    QJsonObject out = exact;
+    QJsonArray robots;
+    for (const QJsonValue& value : exact.value("robots").toArray()) {
+        QJsonObject robot = value.toObject();
+        key.body = static_cast<std::uint64_t>(robot.value("index").toInt());
+        const ObservedPose pose = observePose(camera, key, robot.value("x").toDouble(), robot.value("y").toDouble(),
+                                              robot.value("theta").toDouble());
+        if (pose.visible) {
+            robot["x"] = pose.x;
+            robot["y"] = pose.y;
+            robot["theta"] = pose.theta;
+        } else {
+            robot.remove("x");
+            robot.remove("y");
+            robot.remove("theta");
+        }
+        if (vanishing) robot["visible"] = pose.visible;
+        robots.append(robot);
+    }
+    out["robots"] = robots;
+    QJsonObject ball = exact.value("ball").toObject();
+    key.body = kBallBody;
+    const ObservedPose pose = observePose(camera, key, ball.value("x").toDouble(), ball.value("y").toDouble(), 0.0);
+    if (pose.visible) {
+        ball["x"] = pose.x;
+        ball["y"] = pose.y;
+    } else {
+        ball.remove("x");
+        ball.remove("y");
+    }
+    if (vanishing) ball["visible"] = pose.visible;
+    out["ball"] = ball;
+    return out;
 }
 
 }  // namespace vssim
