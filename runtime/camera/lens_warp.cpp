@@ -1,14 +1,17 @@
 #include "camera/lens_warp.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 
 namespace vssim {
 
-struct LensWarp::Maps {
+struct LensWarpMaps {
     cv::Mat fixed;     // CV_16SC2: integer canvas positions
     cv::Mat fraction;  // CV_16UC1: their interpolation-table indices (1/32 px)
     cv::Size canvas;
@@ -17,28 +20,35 @@ struct LensWarp::Maps {
 
 namespace {
 constexpr double kMaxCanvasAreaRatio = 16.0;
-}
+}  // namespace
 
-LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
-    const bool distorted = lens.k1 != 0.0 || lens.k2 != 0.0 || lens.p1 != 0.0 || lens.p2 != 0.0 || lens.k3 != 0.0;
-    if (!lens.pinhole || !distorted) return;
+namespace {
+
+// The maps of one lens and image size (throws std::invalid_argument as LensWarp's constructor).
+std::shared_ptr<const LensWarpMaps> makeMaps(const CameraLens& lens) {
     const int w = lens.geometry.width, h = lens.geometry.height;
-    cv::Mat mapX(h, w, CV_32F), mapY(h, w, CV_32F);
     std::vector<double> ux(static_cast<std::size_t>(w) * h), uy(ux.size());  // undistorted px, before the offset
-    double xMin = INFINITY, xMax = -INFINITY, yMin = INFINITY, yMax = -INFINITY;
+    std::vector<int> failedAt(h, -1);  // per row: the first column Newton's method missed
+    cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+        for (int v = rows.start; v < rows.end; ++v)
+            for (int u = 0; u < w; ++u) {
+                const Eigen::Vector2d d((u - lens.cx) / lens.fx, (v - lens.cy) / lens.fy);
+                const Eigen::Vector2d n = undistort(lens, d);
+                if (!((distort(lens, n) - d).norm() < 1e-9) && failedAt[v] < 0) failedAt[v] = u;
+                const std::size_t i = static_cast<std::size_t>(v) * w + u;
+                ux[i] = lens.fx * n.x() + lens.cx, uy[i] = lens.fy * n.y() + lens.cy;
+            }
+    });
     for (int v = 0; v < h; ++v)
-        for (int u = 0; u < w; ++u) {
-            const Eigen::Vector2d d((u - lens.cx) / lens.fx, (v - lens.cy) / lens.fy);
-            const Eigen::Vector2d n = undistort(lens, d);
-            if (!((distort(lens, n) - d).norm() < 1e-9))
-                throw std::invalid_argument("camera: the lens distortion (k1, k2, p1, p2, k3) cannot be inverted at pixel (" +
-                                            std::to_string(u) + ", " + std::to_string(v) +
-                                            "): the lens folds the image back on itself there; weaken it");
-            const std::size_t i = static_cast<std::size_t>(v) * w + u;
-            ux[i] = lens.fx * n.x() + lens.cx, uy[i] = lens.fy * n.y() + lens.cy;
-            xMin = std::min(xMin, ux[i]), xMax = std::max(xMax, ux[i]);
-            yMin = std::min(yMin, uy[i]), yMax = std::max(yMax, uy[i]);
-        }
+        if (failedAt[v] >= 0)
+            throw std::invalid_argument("camera: the lens distortion (k1, k2, p1, p2, k3) cannot be inverted at pixel (" +
+                                        std::to_string(failedAt[v]) + ", " + std::to_string(v) +
+                                        "): the lens folds the image back on itself there; weaken it");
+    double xMin = INFINITY, xMax = -INFINITY, yMin = INFINITY, yMax = -INFINITY;
+    for (std::size_t i = 0; i < ux.size(); ++i) {
+        xMin = std::min(xMin, ux[i]), xMax = std::max(xMax, ux[i]);
+        yMin = std::min(yMin, uy[i]), yMax = std::max(yMax, uy[i]);
+    }
     // One-to-one: the map keeps the orientation between neighbouring pixels.
     for (int v = 0; v + 1 < h; ++v)
         for (int u = 0; u + 1 < w; ++u) {
@@ -49,7 +59,7 @@ LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
                 throw std::invalid_argument("camera: the lens distortion (k1, k2, p1, p2, k3) folds the image at pixel (" +
                                             std::to_string(u) + ", " + std::to_string(v) + "); weaken it");
         }
-    auto maps = std::make_shared<Maps>();
+    auto maps = std::make_shared<LensWarpMaps>();
     // Two pixels of margin around every position read (bilinear reads the next pixel too).
     maps->offset = cv::Point(2 - static_cast<int>(std::floor(xMin)), 2 - static_cast<int>(std::floor(yMin)));
     maps->canvas = cv::Size(static_cast<int>(std::ceil(xMax)) + maps->offset.x + 3,
@@ -58,6 +68,7 @@ LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
         throw std::invalid_argument("camera: the lens distortion (k1, k2, p1, p2, k3) makes the image see " +
                                     std::to_string(maps->canvas.width) + " x " + std::to_string(maps->canvas.height) +
                                     " undistorted pixels, more than 16 times its own area; weaken it");
+    cv::Mat mapX(h, w, CV_32F), mapY(h, w, CV_32F);
     for (int v = 0; v < h; ++v)
         for (int u = 0; u < w; ++u) {
             const std::size_t i = static_cast<std::size_t>(v) * w + u;
@@ -65,7 +76,27 @@ LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
             mapY.at<float>(v, u) = static_cast<float>(uy[i] + maps->offset.y);
         }
     cv::convertMaps(mapX, mapY, maps->fixed, maps->fraction, CV_16SC2);
-    maps_ = std::move(maps);
+    return maps;
+}
+
+}  // namespace
+
+LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
+    const bool distorted = lens.k1 != 0.0 || lens.k2 != 0.0 || lens.p1 != 0.0 || lens.p2 != 0.0 || lens.k3 != 0.0;
+    if (!lens.pinhole || !distorted) return;
+    // Renderers of the same lens share its maps while any of them lives (a
+    // scene reloaded, the server's renderer beside the engine's): made once.
+    using Key = std::array<double, 11>;
+    static std::mutex mutex;
+    static std::map<Key, std::weak_ptr<const LensWarpMaps>> made;
+    const Key key{lens.fx, lens.fy, lens.cx, lens.cy, lens.k1, lens.k2, lens.p1, lens.p2, lens.k3,
+                  static_cast<double>(lens.geometry.width), static_cast<double>(lens.geometry.height)};
+    std::lock_guard lock(mutex);
+    if (auto found = made.find(key); found != made.end()) maps_ = found->second.lock();
+    if (maps_) return;
+    maps_ = makeMaps(lens);
+    for (auto it = made.begin(); it != made.end();) it = it->second.expired() ? made.erase(it) : std::next(it);
+    made[key] = maps_;
 }
 
 cv::Size LensWarp::canvasSize() const {

@@ -18,6 +18,8 @@
 
 namespace vssim {
 
+struct LensWarpMaps;  // lens_warp.cpp
+
 class LensWarp {
 public:
     LensWarp() = default;  // inactive
@@ -41,8 +43,7 @@ public:
     void warp(const cv::Mat& canvas, const cv::Rect& box, cv::Mat& region) const;
 
 private:
-    struct Maps;
-    std::shared_ptr<const Maps> maps_;  // shared by copies
+    std::shared_ptr<const LensWarpMaps> maps_;  // shared by copies and by renderers of the same lens
     CameraLens lens_;
 };
 

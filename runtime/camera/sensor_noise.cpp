@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <tuple>
 #include <stdexcept>
 #include <string>
 
@@ -28,6 +31,15 @@ SensorNoise::SensorNoise(double sigma, std::uint64_t seed, std::size_t frameByte
         throw std::invalid_argument("camera noise: the standard deviation must be >= 0 grey levels (got " +
                                     std::to_string(sigma) + ")");
     if (sigma == 0.0 || frameBytes == 0) return;
+    // Cameras of the same noise share its bank while any of them lives (a
+    // scene reloaded, the server's renderer beside the engine's): made once.
+    using Key = std::tuple<double, std::uint64_t, std::size_t>;
+    static std::mutex mutex;
+    static std::map<Key, std::weak_ptr<const std::vector<std::int16_t>>> made;
+    const Key key{sigma, seed, frameBytes};
+    std::lock_guard lock(mutex);
+    if (auto found = made.find(key); found != made.end()) bank_ = found->second.lock();
+    if (bank_) return;
     // Box-Muller on a counter-based stream: the same bank on every machine.
     auto bank = std::make_shared<std::vector<std::int16_t>>(frameBytes + frameBytes / 2);
     const std::uint64_t stream = mix64(seed ^ 0x6e6f697365ULL);
@@ -39,6 +51,8 @@ SensorNoise::SensorNoise(double sigma, std::uint64_t seed, std::size_t frameByte
         if (i + 1 < bank->size()) (*bank)[i + 1] = level(radius * std::sin(angle));
     }
     bank_ = std::move(bank);
+    for (auto it = made.begin(); it != made.end();) it = it->second.expired() ? made.erase(it) : std::next(it);
+    made[key] = bank_;
 }
 
 std::size_t SensorNoise::offset(std::uint64_t frameNumber) const {
@@ -49,14 +63,17 @@ std::size_t SensorNoise::offset(std::uint64_t frameNumber) const {
 
 void SensorNoise::add(cv::Mat& frame, std::uint64_t frameNumber) const {
     if (!bank_) return;
-    if (frame.depth() != CV_8U || !frame.isContinuous() || frame.total() * frame.elemSize() != frameBytes_)
-        throw std::invalid_argument("SensorNoise::add: the frame must be a continuous 8-bit image of " +
+    const std::size_t rowBytes = frame.cols * frame.elemSize();
+    if (frame.depth() != CV_8U || rowBytes * frame.rows != frameBytes_)
+        throw std::invalid_argument("SensorNoise::add: the frame must be an 8-bit image of " +
                                     std::to_string(frameBytes_) + " bytes");
-    std::uint8_t* p = frame.ptr<std::uint8_t>();
     const std::int16_t* n = bank_->data() + offset(frameNumber);
-    for (std::size_t i = 0; i < frameBytes_; ++i) {
-        const int v = p[i] + n[i];
-        p[i] = static_cast<std::uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+    for (int row = 0; row < frame.rows; ++row, n += rowBytes) {
+        std::uint8_t* p = frame.ptr<std::uint8_t>(row);
+        for (std::size_t i = 0; i < rowBytes; ++i) {
+            const int v = p[i] + n[i];
+            p[i] = static_cast<std::uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+        }
     }
 }
 
