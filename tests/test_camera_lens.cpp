@@ -184,7 +184,8 @@ void TestCameraLens::undistortionMatchesOpenCv() {
         }
         std::vector<cv::Point2d> normalised;
         cv::undistortPoints(pixels, normalised, cameraMatrix(lens), distortionCoefficients(lens), cv::noArray(),
-                            cv::noArray(), cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
+                            cv::noArray(),
+                            cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
         for (std::size_t i = 0; i < pixels.size(); ++i) {
             const Eigen::Vector2d n =
                 undistort(lens, Eigen::Vector2d((pixels[i].x - lens.cx) / lens.fx, (pixels[i].y - lens.cy) / lens.fy));
@@ -248,12 +249,13 @@ void TestCameraLens::robotTopsAndBallCentresInTheImage() {
         const Eigen::Vector2d ball = centroid(patchCoverage(frame, cv::Vec3b(0, 128, 255)));
         worst = std::max(worst, (ball - projectToImage(lens, state.ball.x, state.ball.y, radius)).norm());
         if (place.norm() > 0.5)
-            smallestBallParallax = std::min(
-                smallestBallParallax, (ball - projectToImage(lens, state.ball.x, state.ball.y, 0.0)).norm());
+            smallestBallParallax =
+                std::min(smallestBallParallax, (ball - projectToImage(lens, state.ball.x, state.ball.y, 0.0)).norm());
     }
-    qInfo("patch and ball centroids vs their projections: worst %.3f px; parallax near the corners: robot tops >= "
-          "%.2f px, ball >= %.2f px",
-          worst, smallestParallax, smallestBallParallax);
+    qInfo(
+        "patch and ball centroids vs their projections: worst %.3f px; parallax near the corners: robot tops >= "
+        "%.2f px, ball >= %.2f px",
+        worst, smallestParallax, smallestBallParallax);
     QVERIFY(worst < 0.5);
     // Off the floor's projection by the parallax: the robot's top is 7.5 cm
     // up (about 7 px at 0.7 m from the centre), the ball's centre 2.1 cm
@@ -277,7 +279,7 @@ void TestCameraLens::sensorNoiseStatistics() {
         renderer.render(state, frame1, patches, 1);
         const CameraRenderer copy = renderer;
         copy.render(state, again, patches, 1);
-        QCOMPARE(cv::norm(frame1, again, cv::NORM_INF), 0.0);  // same frame number, same bytes
+        QCOMPARE(cv::norm(frame1, again, cv::NORM_INF), 0.0);   // same frame number, same bytes
         QVERIFY(cv::norm(frame0, frame1, cv::NORM_INF) > 0.0);  // another frame, other noise
 
         // Over bytes far from saturation (background 4 sigma inside 0..255).
@@ -391,10 +393,11 @@ void TestCameraLens::motionBlurStreak() {
     }
     const double stillRear = edge(still, true), stillFront = edge(still, false);
     const double movingRear = edge(moving, true), movingFront = edge(moving, false);
-    qInfo("edges: still %.2f .. %.2f px (the lens: %.2f .. %.2f); blurred, moved by %.2f and %.2f px (the sub-frames' "
-          "mean: %.2f and %.2f)",
-          stillRear, stillFront, rearNow, frontNow, movingRear - stillRear, movingFront - stillFront,
-          rearMean - rearNow, frontMean - frontNow);
+    qInfo(
+        "edges: still %.2f .. %.2f px (the lens: %.2f .. %.2f); blurred, moved by %.2f and %.2f px (the sub-frames' "
+        "mean: %.2f and %.2f)",
+        stillRear, stillFront, rearNow, frontNow, movingRear - stillRear, movingFront - stillFront, rearMean - rearNow,
+        frontMean - frontNow);
     // OpenCV's anti-aliased fill widens a polygon by about half a pixel.
     QVERIFY(std::abs(stillRear - rearNow) < 0.8 && std::abs(stillFront - frontNow) < 0.8);
     QVERIFY(std::abs((movingRear - stillRear) - (rearMean - rearNow)) < 0.2);

@@ -102,8 +102,8 @@ CameraRenderer::CameraRenderer(const Scene& scene, const CameraSettings& camera,
     if (!(camera.exposure >= 0.0) || !std::isfinite(camera.exposure))
         throw std::invalid_argument("camera: exposure must be >= 0 s (got " + std::to_string(camera.exposure) + ")");
     if (camera.exposure > 0.0 && (camera.blur_samples < 1 || camera.blur_samples > 257))
-        throw std::invalid_argument("camera: blur_samples must be 1..257 (got " +
-                                    std::to_string(camera.blur_samples) + ")");
+        throw std::invalid_argument("camera: blur_samples must be 1..257 (got " + std::to_string(camera.blur_samples) +
+                                    ")");
     warp_ = LensWarp(lens_);
     light_ = LightGain(camera, lens_);
     noise_ = SensorNoise(camera.noise, camera.seed, static_cast<std::size_t>(width) * height * 3);

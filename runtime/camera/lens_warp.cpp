@@ -41,9 +41,10 @@ std::shared_ptr<const LensWarpMaps> makeMaps(const CameraLens& lens) {
     });
     for (int v = 0; v < h; ++v)
         if (failedAt[v] >= 0)
-            throw std::invalid_argument("camera: the lens distortion (k1, k2, p1, p2, k3) cannot be inverted at pixel (" +
-                                        std::to_string(failedAt[v]) + ", " + std::to_string(v) +
-                                        "): the lens folds the image back on itself there; weaken it");
+            throw std::invalid_argument(
+                "camera: the lens distortion (k1, k2, p1, p2, k3) cannot be inverted at pixel (" +
+                std::to_string(failedAt[v]) + ", " + std::to_string(v) +
+                "): the lens folds the image back on itself there; weaken it");
     double xMin = INFINITY, xMax = -INFINITY, yMin = INFINITY, yMax = -INFINITY;
     for (std::size_t i = 0; i < ux.size(); ++i) {
         xMin = std::min(xMin, ux[i]), xMax = std::max(xMax, ux[i]);
@@ -56,8 +57,9 @@ std::shared_ptr<const LensWarpMaps> makeMaps(const CameraLens& lens) {
             const double ax = ux[i + 1] - ux[i], ay = uy[i + 1] - uy[i];
             const double bx = ux[i + w] - ux[i], by = uy[i + w] - uy[i];
             if (!(ax * by - ay * bx > 0.0))
-                throw std::invalid_argument("camera: the lens distortion (k1, k2, p1, p2, k3) folds the image at pixel (" +
-                                            std::to_string(u) + ", " + std::to_string(v) + "); weaken it");
+                throw std::invalid_argument(
+                    "camera: the lens distortion (k1, k2, p1, p2, k3) folds the image at pixel (" + std::to_string(u) +
+                    ", " + std::to_string(v) + "); weaken it");
         }
     auto maps = std::make_shared<LensWarpMaps>();
     // Two pixels of margin around every position read (bilinear reads the next pixel too).
@@ -89,8 +91,17 @@ LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
     using Key = std::array<double, 11>;
     static std::mutex mutex;
     static std::map<Key, std::weak_ptr<const LensWarpMaps>> made;
-    const Key key{lens.fx, lens.fy, lens.cx, lens.cy, lens.k1, lens.k2, lens.p1, lens.p2, lens.k3,
-                  static_cast<double>(lens.geometry.width), static_cast<double>(lens.geometry.height)};
+    const Key key{lens.fx,
+                  lens.fy,
+                  lens.cx,
+                  lens.cy,
+                  lens.k1,
+                  lens.k2,
+                  lens.p1,
+                  lens.p2,
+                  lens.k3,
+                  static_cast<double>(lens.geometry.width),
+                  static_cast<double>(lens.geometry.height)};
     std::lock_guard lock(mutex);
     if (auto found = made.find(key); found != made.end()) maps_ = found->second.lock();
     if (maps_) return;

@@ -17,8 +17,10 @@ LightGain::LightGain(const CameraSettings& camera, const CameraLens& lens)
     if (!light && !colour) return;
     for (const double g : {camera.gain_b, camera.gain_g, camera.gain_r, camera.vignetting})
         if (!(g >= 0.0) || g > 16.0)
-            throw std::invalid_argument("camera: vignetting and the colour gains (gain_b, gain_g, gain_r) must be in "
-                                        "0..16 (got " + std::to_string(g) + ")");
+            throw std::invalid_argument(
+                "camera: vignetting and the colour gains (gain_b, gain_g, gain_r) must be in "
+                "0..16 (got " +
+                std::to_string(g) + ")");
     if (!std::isfinite(camera.gradient_x) || !std::isfinite(camera.gradient_y))
         throw std::invalid_argument("camera: gradient_x and gradient_y must be finite");
     const double cx = lens.cx, cy = lens.cy, w = width_, h = height_;
@@ -35,8 +37,7 @@ LightGain::LightGain(const CameraSettings& camera, const CameraLens& lens)
                                  std::max(0.0, 1.0 + camera.gradient_x * (u - cx) / (0.5 * w)) *
                                  std::max(0.0, 1.0 + camera.gradient_y * (v - cy) / (0.5 * h));
             for (int c = 0; c < 3; ++c)
-                *g++ = static_cast<std::uint16_t>(
-                    std::min(65535.0, std::round(light * channel[c] * (1 << kGainBits))));
+                *g++ = static_cast<std::uint16_t>(std::min(65535.0, std::round(light * channel[c] * (1 << kGainBits))));
         }
     gains_ = std::move(gains);
 }
@@ -51,7 +52,8 @@ void LightGain::applyAt(cv::Mat& image, const cv::Point& origin) const {
         const std::uint16_t* g = gains_->data() + (static_cast<std::size_t>(origin.y + row) * width_ + origin.x) * 3;
         const int n = image.cols * 3;
         for (int i = 0; i < n; ++i) {
-            const std::uint32_t value = (static_cast<std::uint32_t>(p[i]) * g[i] + (1u << (kGainBits - 1))) >> kGainBits;
+            const std::uint32_t value =
+                (static_cast<std::uint32_t>(p[i]) * g[i] + (1u << (kGainBits - 1))) >> kGainBits;
             p[i] = static_cast<std::uint8_t>(std::min<std::uint32_t>(value, 255u));
         }
     }

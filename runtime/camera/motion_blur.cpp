@@ -14,12 +14,12 @@ double blurDelay(const CameraSettings& camera, int k) {
 }
 
 RobotState robotBefore(const RobotState& pose, double delay) {
-    const double s = -delay;                  // signed time from the pose, s
-    const double turn = pose.omega * s;       // rad
+    const double s = -delay;             // signed time from the pose, s
+    const double turn = pose.omega * s;  // rad
     const double half = 0.5 * turn;
     // sin(h)/h, its series near 0 (exact to rounding for |h| < 1e-4).
     const double sinc = std::abs(half) < 1e-4 ? 1.0 - half * half / 6.0 : std::sin(half) / half;
-    const double chord = pose.v * s * sinc;   // m, signed along the mean heading
+    const double chord = pose.v * s * sinc;  // m, signed along the mean heading
     RobotState before = pose;
     before.x = pose.x + chord * std::cos(pose.theta + half);
     before.y = pose.y + chord * std::sin(pose.theta + half);

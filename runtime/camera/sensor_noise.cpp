@@ -4,9 +4,9 @@
 #include <cmath>
 #include <map>
 #include <mutex>
-#include <tuple>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 namespace vssim {
 
