@@ -18,7 +18,7 @@ case "$mode" in
 esac
 
 packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev
-          libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
+          libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev
           python3 python3-numpy python3-opencv python3-matplotlib python3-dev pybind11-dev
           libqt6opengl6-dev libsdl2-dev xvfb xauth
           libprotobuf-dev protobuf-compiler python3-protobuf python3-distributed

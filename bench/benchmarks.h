@@ -26,6 +26,7 @@ int stability(const Options& options, std::ostream& out, std::ostream& log);
 int serveLatency(const Options& options, std::ostream& out, std::ostream& log);
 int firasimLatency(const Options& options, std::ostream& out, std::ostream& log);
 int matchBenchmark(const Options& options, std::ostream& out, std::ostream& log);
+int cameraRender(const Options& options, std::ostream& out, std::ostream& log);
 // Built only with Box2D (VSSIM_HAVE_BOX2D): box2d_baseline.cpp.
 int box2dBaseline(const Options& options, std::ostream& out, std::ostream& log);
 

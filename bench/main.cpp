@@ -1,7 +1,7 @@
 // vssim_bench: runs the benchmarks of docs/performance.md and writes CSV.
 //
 //   vssim_bench [--quick] [--out DIR] [--scene FILE] [--field NAME]
-//               [all|work-precision|realtime|scale|stability|serve|firasim|match|box2d]...
+//               [all|work-precision|realtime|scale|stability|serve|firasim|match|camera|box2d]...
 #include <QCoreApplication>
 #include <QDir>
 #include <cstdio>
@@ -30,6 +30,8 @@ const char* kHelp =
     "  firasim          vssim serve --firasim, both teams as UDP clients: command latency, vision\n"
     "                   period and jitter at 60 Hz, bytes per packet, with the TCP protocol beside\n"
     "                   as a baseline; --speed max and --firasim-sync rates (firasim.csv)\n"
+    "  camera           the camera's render and encode time per frame: ideal, realistic without and\n"
+    "                   with motion blur, on the moving 3-vs-3 kick-off (camera.csv)\n"
     "  match            whole 3-vs-3 matches with the referee: real-time factor, the built-in\n"
     "                   team's goals against an idle team and itself, the game layer's cost (match.csv)\n"
     "  box2d            the 3-vs-3 scene with random voltages on the official field in a Box2D 2.4\n"
@@ -63,6 +65,7 @@ int main(int argc, char** argv) {
         {"serve", {vssim::bench::serveLatency, "serve.csv"}},
         {"firasim", {vssim::bench::firasimLatency, "firasim.csv"}},
         {"match", {vssim::bench::matchBenchmark, "match.csv"}},
+        {"camera", {vssim::bench::cameraRender, "camera.csv"}},
 #if VSSIM_HAVE_BOX2D
         {"box2d", {vssim::bench::box2dBaseline, "box2d.csv"}},
 #endif
@@ -104,7 +107,7 @@ int main(int argc, char** argv) {
     }
     if (chosen.empty())
         for (const char* name :
-             {"stability", "work-precision", "realtime", "scale", "serve", "firasim", "match", "box2d"})
+             {"stability", "work-precision", "realtime", "scale", "serve", "firasim", "match", "camera", "box2d"})
             if (benches.count(name)) chosen.push_back(name);  // box2d only when built with Box2D
     if (!QDir().mkpath(QString::fromStdString(outDir))) {
         std::cerr << "vssim_bench: cannot create " << outDir << "\n";

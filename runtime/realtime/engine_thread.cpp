@@ -207,7 +207,8 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
     job.instantNs = nowNs;
     if (!job.subscriptions.empty()) {
         const std::int64_t startNs = monotonicNs();
-        renderer_.render(sim.state(), job.image, job.patches);  // a new image each time: the encoder owns it
+        // A new image each time (the encoder owns it); the frame number seeds its noise.
+        renderer_.render(sim.state(), job.image, job.patches, static_cast<std::uint64_t>(job.frame));
         renderMs_.add(1e-6 * static_cast<double>(monotonicNs() - startNs));
         double area = 0.0;
         for (const cv::Rect& r : job.patches) area += r.area();

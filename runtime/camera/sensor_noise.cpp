@@ -1,0 +1,80 @@
+#include "camera/sensor_noise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace vssim {
+
+namespace {
+
+// SplitMix64's output function: a bijective mix of a 64-bit counter.
+std::uint64_t mix64(std::uint64_t z) {
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+// Uniform in (0, 1) from 53 bits of a mixed counter.
+double unitOpen(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
+
+}  // namespace
+
+SensorNoise::SensorNoise(double sigma, std::uint64_t seed, std::size_t frameBytes)
+    : frameBytes_(frameBytes), seed_(seed) {
+    if (!(sigma >= 0.0) || !std::isfinite(sigma))
+        throw std::invalid_argument("camera noise: the standard deviation must be >= 0 grey levels (got " +
+                                    std::to_string(sigma) + ")");
+    if (sigma == 0.0 || frameBytes == 0) return;
+    // Cameras of the same noise share its bank while any of them lives (a
+    // scene reloaded, the server's renderer beside the engine's): made once.
+    using Key = std::tuple<double, std::uint64_t, std::size_t>;
+    static std::mutex mutex;
+    static std::map<Key, std::weak_ptr<const std::vector<std::int16_t>>> made;
+    const Key key{sigma, seed, frameBytes};
+    std::lock_guard lock(mutex);
+    if (auto found = made.find(key); found != made.end()) bank_ = found->second.lock();
+    if (bank_) return;
+    // Box-Muller on a counter-based stream: the same bank on every machine.
+    auto bank = std::make_shared<std::vector<std::int16_t>>(frameBytes + frameBytes / 2);
+    const std::uint64_t stream = mix64(seed ^ 0x6e6f697365ULL);
+    for (std::size_t i = 0; i < bank->size(); i += 2) {
+        const double u1 = unitOpen(mix64(stream + 2 * i)), u2 = unitOpen(mix64(stream + 2 * i + 1));
+        const double radius = sigma * std::sqrt(-2.0 * std::log(u1)), angle = 2.0 * M_PI * u2;
+        const auto level = [](double x) { return static_cast<std::int16_t>(std::clamp(std::lround(x), -512L, 512L)); };
+        (*bank)[i] = level(radius * std::cos(angle));
+        if (i + 1 < bank->size()) (*bank)[i + 1] = level(radius * std::sin(angle));
+    }
+    bank_ = std::move(bank);
+    for (auto it = made.begin(); it != made.end();) it = it->second.expired() ? made.erase(it) : std::next(it);
+    made[key] = bank_;
+}
+
+std::size_t SensorNoise::offset(std::uint64_t frameNumber) const {
+    if (!bank_) return 0;
+    const std::size_t choices = bank_->size() - frameBytes_ + 1;
+    return static_cast<std::size_t>(mix64(mix64(seed_) ^ mix64(frameNumber + 0x66726d)) % choices);
+}
+
+void SensorNoise::add(cv::Mat& frame, std::uint64_t frameNumber) const {
+    if (!bank_) return;
+    const std::size_t rowBytes = frame.cols * frame.elemSize();
+    if (frame.depth() != CV_8U || rowBytes * frame.rows != frameBytes_)
+        throw std::invalid_argument("SensorNoise::add: the frame must be an 8-bit image of " +
+                                    std::to_string(frameBytes_) + " bytes");
+    const std::int16_t* n = bank_->data() + offset(frameNumber);
+    for (int row = 0; row < frame.rows; ++row, n += rowBytes) {
+        std::uint8_t* p = frame.ptr<std::uint8_t>(row);
+        for (std::size_t i = 0; i < rowBytes; ++i) {
+            const int v = p[i] + n[i];
+            p[i] = static_cast<std::uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+        }
+    }
+}
+
+}  // namespace vssim
