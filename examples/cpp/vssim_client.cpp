@@ -371,11 +371,12 @@ Frame parseFrame(const std::vector<std::uint8_t>& p) {
 // Vision: colour blobs -> robot pose and ball position, in the field frame.
 // ---------------------------------------------------------------------------
 
-// WELCOME's camera.<key> as a finite number (positive if asked), or a clear error.
-double cameraNumber(const Json& camera, const std::string& key, bool positive = false) {
-    const Json& v = camera[key];
+// WELCOME's <where>.<key> as a finite number (positive if asked), or a clear error.
+double cameraNumber(const Json& object, const std::string& key, bool positive = false,
+                    const std::string& where = "camera") {
+    const Json& v = object[key];
     if (v.type != Json::Number || !std::isfinite(v.number) || (positive && v.number <= 0))
-        throw ProtocolError("WELCOME's camera." + key + " is " + (v.type == Json::Null ? "missing" : "not") +
+        throw ProtocolError("WELCOME's " + where + "." + key + " is " + (v.type == Json::Null ? "missing" : "not") +
                             " a finite" + (positive ? " positive" : "") + " number");
     return v.number;
 }
@@ -387,7 +388,7 @@ double cameraNumber(const Json& camera, const std::string& key, bool positive = 
 // coordinates where pixel column i covers u in [i, i+1) (its centre at i + 0.5).
 // Every height looks the same.
 //
-// "pinhole": a camera `height` m above the field centre looking straight down,
+// "pinhole": a camera `mount_height` m above the field centre looking straight down,
 // u along +x and v along -y, through a lens with OpenCV's distortion model
 // (k1, k2, p1, p2, k3); pixel centres at integer coordinates (OpenCV's
 // convention: a centroid of pixel indices goes in as it is). A pixel is
@@ -421,7 +422,12 @@ struct Camera {
             centreV = cameraNumber(c, "centre_v");
         } else if (projection == "pinhole") {
             pinhole = true;
-            height = cameraNumber(c, "height", true);
+            // The camera's height above the field, m: "mount_height" ("height" is
+            // the image's, px), else the camera settings' "height".
+            const Json& s = c["settings"];
+            height = c["mount_height"].type == Json::Null && s["height"].type != Json::Null
+                         ? cameraNumber(s, "height", true, "camera.settings")
+                         : cameraNumber(c, "mount_height", true);
             const Json& m = c["matrix"];
             auto entry = [&](int row, int column) {
                 if (m.type != Json::Array || m.items.size() != 3 || m.items[row].type != Json::Array ||
@@ -453,7 +459,7 @@ struct Camera {
         if (s.type != Json::Null && s.type != Json::Object) throw ProtocolError("WELCOME's camera.settings is not an object");
         const std::pair<const char*, double> parts[] = {{"latency", 1.0}, {"jitter", 0.5}, {"exposure", 0.5}};
         for (const auto& [key, weight] : parts)
-            if (s[key].type != Json::Null) delay += weight * cameraNumber(s, key);
+            if (s[key].type != Json::Null) delay += weight * cameraNumber(s, key, false, "camera.settings");
     }
 
     // The distortion of normalised image coordinates (OpenCV's model, above).

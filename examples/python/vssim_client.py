@@ -224,11 +224,12 @@ def paste(image, x, y, patch):
 UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-12)
 
 
-def camera_number(camera, key, positive=False):
+def camera_number(camera, key, positive=False, where="camera"):
+    """WELCOME's <where>.<key> as a float, or a ProtocolError that names it."""
     value = camera.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
             or (positive and value <= 0):
-        raise ProtocolError(f"WELCOME's camera.{key} is {value!r}: expected a finite"
+        raise ProtocolError(f"WELCOME's {where}.{key} is {value!r}: expected a finite"
                             f"{' positive' if positive else ''} number")
     return float(value)
 
@@ -241,7 +242,7 @@ class Camera:
     continuous coordinates where pixel column i covers u in [i, i+1) (its
     centre at u = i + 0.5). Every height looks the same.
 
-    "pinhole": a camera "height" m above the field centre looking straight
+    "pinhole": a camera "mount_height" m above the field centre looking straight
     down, u along +x and v along -y, through a lens with OpenCV's distortion
     model; pixel centres at integer coordinates (OpenCV's convention, so a
     centroid of pixel indices goes in as it is). A pixel is undistorted to
@@ -266,7 +267,13 @@ class Camera:
             self.centre_u = camera_number(welcome_camera, "centre_u")
             self.centre_v = camera_number(welcome_camera, "centre_v")
         elif self.projection == "pinhole":
-            self.height = camera_number(welcome_camera, "height", positive=True)
+            # The camera's height above the field, m: "mount_height" ("height"
+            # is the image's, px), else the camera settings' "height".
+            settings = welcome_camera.get("settings")
+            if "mount_height" in welcome_camera or not isinstance(settings, dict) or "height" not in settings:
+                self.height = camera_number(welcome_camera, "mount_height", positive=True)
+            else:
+                self.height = camera_number(settings, "height", positive=True, where="camera.settings")
             try:
                 self.matrix = np.array(welcome_camera.get("matrix"), dtype=np.float64)
                 self.distortion = np.array(welcome_camera.get("distortion", [0.0] * 5), dtype=np.float64)
@@ -287,7 +294,7 @@ class Camera:
         settings = welcome_camera.get("settings") or {}
         if not isinstance(settings, dict):
             raise ProtocolError("WELCOME's camera.settings is not an object")
-        self.delay = sum(weight * camera_number(settings, key) for key, weight in
+        self.delay = sum(weight * camera_number(settings, key, where="camera.settings") for key, weight in
                          (("latency", 1.0), ("jitter", 0.5), ("exposure", 0.5)) if key in settings)
 
     def to_field(self, pixels, z):
@@ -311,28 +318,32 @@ def hsv_of(bgr):
     return [int(c) for c in cv2.cvtColor(np.uint8([[bgr]]), cv2.COLOR_BGR2HSV)[0, 0]]
 
 
-def colour_mask(hsv, foreground, bgr):
-    """The pixels of the HSV image that have colour bgr's class, among the
-    foreground pixels (those that differ from the background: that keeps the
-    white field markings and the grey walls out of the white class)."""
+def colour_class(hsv, bgr, min_value):
+    """Where the HSV image has colour bgr's class: its hue (within the
+    tolerance, around the circle: 180 = 0), saturated, and at least min_value
+    bright; for white, little saturation."""
     hue, saturation, _ = hsv_of(bgr)
     h, s, v = cv2.split(hsv)
-    if saturation == 0:   # white: any hue, little saturation, bright
-        mask = (s <= WHITE_MAX_SATURATION) & (v >= WHITE_MIN_VALUE)
-    else:                 # hue within the tolerance, around the circle (180 = 0)
-        difference = np.abs(h.astype(np.int16) - hue)
-        difference = np.minimum(difference, 180 - difference)
-        mask = (difference <= HUE_TOLERANCE) & (s >= MIN_SATURATION) & (v >= MIN_VALUE)
-    return np.where(mask, np.uint8(255), np.uint8(0)) & foreground
+    if saturation == 0:   # white: any hue
+        return (s <= WHITE_MAX_SATURATION) & (v >= min_value)
+    difference = np.abs(h.astype(np.int16) - hue)
+    difference = np.minimum(difference, 180 - difference)
+    return (difference <= HUE_TOLERANCE) & (s >= MIN_SATURATION) & (v >= min_value)
 
 
 def find_blobs(hsv, foreground, bgr):
     """Blobs of colour bgr's class as (centroid (column, row), area px, mean value V), largest first.
 
-    A 3x3 opening removes what is one or two pixels wide: thin anti-aliased
-    fringes, isolated noisy pixels, the field markings' crossings; blobs still
-    under MIN_BLOB_AREA pixels are dropped."""
-    mask = cv2.morphologyEx(colour_mask(hsv, foreground, bgr), cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+    The class's bright pixels (V >= MIN_VALUE; white: WHITE_MIN_VALUE) among
+    the foreground ones (those that differ from the background: that keeps
+    the white field markings and the grey walls out of the white class); a
+    3x3 opening removes what is one or two pixels wide (anti-aliased fringes,
+    isolated noisy pixels, the markings' crossings); blobs still under
+    MIN_BLOB_AREA pixels are dropped."""
+    white = hsv_of(bgr)[1] == 0
+    bright = colour_class(hsv, bgr, WHITE_MIN_VALUE if white else MIN_VALUE)
+    mask = np.where(bright, np.uint8(255), np.uint8(0)) & foreground
+    mask = cv2.morphologyEx(mask, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
     count, labels, stats, centroids = cv2.connectedComponentsWithStats(mask)
     areas = stats[:, cv2.CC_STAT_AREA]
     values = np.bincount(labels.ravel(), weights=hsv[..., 2].ravel(), minlength=count) / np.maximum(areas, 1)
