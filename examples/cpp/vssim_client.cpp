@@ -675,11 +675,13 @@ const char* kUsage =
     "                  (default: WELCOME's camera latency + jitter/2 + exposure/2; 0 for the ideal camera)\n"
     "  --verbose       print the estimates at every frame\n"
     "Vision (examples/README.md): pixels that differ from the background are classed by hue\n"
-    "(saturation and brightness above a floor; white: low saturation), opened 3x3, blobs under\n"
-    "10 px dropped; the robot is its identity blob next to its team blob. Centroids become metres\n"
-    "through WELCOME's camera: orthographic x = (u + 0.5 - centre_u) / scale, y = (centre_v - v - 0.5) / scale;\n"
-    "pinhole: undistort (matrix, distortion) to (x_n, y_n), then x = x_n (height - z), y = -y_n (height - z)\n"
-    "at the height z seen: the patches on the robot's top face (z = side), the ball's centre (z = radius).\n"
+    "(saturation and brightness above a floor; white: low saturation; purple: magenta at half the\n"
+    "team patch's brightness), opened 3x3, blobs under 10 px dropped; the robot is its identity blob\n"
+    "next to its team blob. A centroid (c, r) of pixel indices becomes metres through WELCOME's camera:\n"
+    "orthographic x = (c + 0.5 - centre_u) / scale, y = (centre_v - r - 0.5) / scale; pinhole: undistorted\n"
+    "(matrix, distortion; Newton's method) to (x_n, y_n), then x = x_n (mount_height - z),\n"
+    "y = -y_n (mount_height - z) at the height z seen: z = side for the patches on the robot's top face,\n"
+    "z = radius for the ball. Robot and ball are predicted forward over the delay (constant velocity).\n"
     "Exit status: 0 ball reached, 1 --max-time passed, 2 connection or protocol error.\n";
 
 int run(const Options& o) {

@@ -7,7 +7,11 @@ It shows the whole protocol of docs/protocol.md from a team's side:
   2. read WELCOME (field, camera mapping, our robots) and the *background* FRAME;
   3. for every following FRAME: paste its patches onto a copy of the
      background, find our robot (team patch + identity patch) and the ball by
-     colour, and answer with VOLTAGES from a simple go-to-point controller;
+     colour (hue), map them to the field through WELCOME's camera (the ideal
+     orthographic view, or a pinhole lens with distortion: undistorted, then
+     cut with the plane of the robot's top face or the ball's centre), predict
+     them forward over the image's delay, and answer with VOLTAGES from a
+     simple go-to-point controller;
      in real time, a FRAME with another message already waiting behind it is
      skipped, so that a client slower than the camera acts on the newest image;
   4. in lockstep mode (`vssim serve --lockstep`) also advance simulated time
@@ -487,9 +491,27 @@ class GoToPoint:
 # The session
 # --------------------------------------------------------------------------
 
+VISION_HELP = """\
+vision (examples/README.md):
+  colours   pixels that differ from the background by > 40 are classed by hue (OpenCV HSV,
+            +-7 of red 0, orange 15, yellow 30, green 60, cyan 90, blue 120, magenta/purple 150;
+            saturation >= 128, V >= 50; white: saturation <= 70, V >= 100), so uneven light,
+            the colour cast and blur leave them alone; purple is magenta at half the team
+            patch's brightness. Masks are opened 3x3, blobs under 10 px dropped.
+  field     orthographic camera: x = (c + 0.5 - centre_u) / scale, y = (centre_v - r - 0.5) / scale
+            for a centroid (c, r) of pixel indices. Pinhole camera: (c, r) undistorted with
+            WELCOME's matrix and distortion (cv2.undistortPoints) to (x_n, y_n), then
+            x = x_n (mount_height - z), y = -y_n (mount_height - z) at the height z seen:
+            z = side for the patches on the robot's top face, z = radius for the ball.
+  latency   robot and ball are moved forward by their velocity (from the last images)
+            times the delay: --delay, or latency + jitter/2 + exposure/2 from the settings.
+exit status: 0 ball reached, 1 --max-time passed, 2 connection, protocol or option error."""
+
+
 def parse_arguments():
     parser = argparse.ArgumentParser(
-        description="vssim example team client: drives one robot to the ball using only the camera images.")
+        description="vssim example team client: drives one robot to the ball using only the camera images.",
+        epilog=VISION_HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--host", default="127.0.0.1", help="server address (default 127.0.0.1)")
     parser.add_argument("--port", type=int, default=10030, help="server port (default 10030)")
     parser.add_argument("--team", choices=["yellow", "blue"], default="yellow", help="team (default yellow)")
