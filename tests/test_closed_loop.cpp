@@ -3,7 +3,9 @@
 // and sends only voltages, and this test as an observer reading the ground
 // truth (STATE) to check that the client's robot really reaches the ball.
 // Also `vssim serve`'s command line: errors, --help, the address it prints.
+#include <QJsonDocument>
 #include <QProcess>
+#include <QTemporaryDir>
 #include <QtTest>
 #include <cmath>
 
@@ -43,14 +45,27 @@ private slots:
         QTest::addColumn<bool>("lockstep");
         QTest::addColumn<double>("ballX");  // m: where the ball is put first, off the robot's axis
         QTest::addColumn<double>("ballY");
+        // The realistic camera (the scene's "camera": {"preset": "realistic"}):
+        // a pinhole lens 2 m up with distortion, uneven light, a colour cast,
+        // noise, motion blur, and images 50 to 60 ms late, 1% dropped.
+        QTest::addColumn<bool>("realistic");
         const QString python = QStringLiteral(VSSIM_SOURCE_DIR "/examples/python/vssim_client.py");
-        QTest::newRow("python, lockstep, png")
-            << QString("/usr/bin/python3") << QStringList{python, "--lockstep"} << true << -0.2 << 0.45;
-        QTest::newRow("C++, lockstep, jpeg")
-            << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--lockstep", "--encoding", "jpeg"} << true << 0.4 << -0.5;
-        QTest::newRow("C++, blue 0, real time, raw")
-            << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--team", "blue", "--robot", "0", "--encoding", "raw"}
-            << false << 0.55 << 0.5;
+        for (const bool realistic : {false, true}) {
+            const char* camera = realistic ? ", realistic camera" : "";
+            QTest::addRow("python, lockstep, png%s", camera)
+                << QString("/usr/bin/python3") << QStringList{python, "--lockstep"} << true << -0.2 << 0.45 << realistic;
+            QTest::addRow("C++, lockstep, jpeg%s", camera)
+                << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--lockstep", "--encoding", "jpeg"} << true << 0.4 << -0.5
+                << realistic;
+            QTest::addRow("C++, blue 0, real time, raw%s", camera)
+                << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--team", "blue", "--robot", "0", "--encoding", "raw"}
+                << false << 0.55 << 0.5 << realistic;
+        }
+        // A ball near a corner, where the lens bends most and the top face's
+        // parallax is largest (2.9 cm at 0.75 m from the centre).
+        QTest::addRow("python, blue 1, lockstep, raw, realistic camera, ball in a corner")
+            << QString("/usr/bin/python3") << QStringList{python, "--team", "blue", "--robot", "1", "--lockstep", "--encoding", "raw"}
+            << true << 0.62 << -0.5 << true;
     }
 
     void clientDrivesToTheBallFromImagesOnly() {
@@ -59,9 +74,22 @@ private slots:
         QFETCH(bool, lockstep);
         QFETCH(double, ballX);
         QFETCH(double, ballY);
+        QFETCH(bool, realistic);
         // The kick-off's field without a game (the built-in scene is a match of
-        // the built-in team against itself): every robot left to clients.
-        const QStringList bare{"kickoff_3v3", "--referee", "off", "--yellow", "tcp", "--blue", "tcp"};
+        // the built-in team against itself): every robot left to clients. With
+        // the realistic camera, the same scene with its "camera" key.
+        QString scene = "kickoff_3v3";
+        QTemporaryDir dir;
+        if (realistic) {
+            QFile builtIn(VSSIM_SOURCE_DIR "/resources/scenes/kickoff_3v3.json");
+            QVERIFY(builtIn.open(QIODevice::ReadOnly));
+            QJsonObject root = QJsonDocument::fromJson(builtIn.readAll()).object();
+            root["camera"] = QJsonObject{{"preset", "realistic"}};
+            scene = dir.filePath("kickoff_3v3_realistic.json");
+            QFile file(scene);
+            QVERIFY(file.open(QIODevice::WriteOnly) && file.write(QJsonDocument(root).toJson()) > 0);
+        }
+        const QStringList bare{scene, "--referee", "off", "--yellow", "tcp", "--blue", "tcp"};
         ServeProcess serve(lockstep ? bare + QStringList{"--lockstep"} : bare);
         QVERIFY2(serve.port != 0, qPrintable("vssim serve printed: " + serve.firstLine));
 
@@ -70,6 +98,16 @@ private slots:
         const auto welcome =
             observer.hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", "none"}, {"state", true}});
         QVERIFY(welcome);
+        // The camera the clients are told about (docs/protocol.md, WELCOME):
+        // the ideal one is orthographic (older servers: no "projection").
+        const QJsonObject camera = (*welcome)["camera"].toObject();
+        if (realistic)
+            QVERIFY2(camera["projection"].toString() == "pinhole" && camera["matrix"].isArray() &&
+                         camera["distortion"].isArray() && camera["settings"].isObject(),
+                     "WELCOME's camera is not the realistic one: does vssim serve render the scene's `camera` "
+                     "and describe its lens in WELCOME?");
+        else
+            QVERIFY(camera["projection"].toString("orthographic") == "orthographic");
         observer.sendJson(protocol::MessageType::Control,
                           QJsonObject{{"command", "place_ball"}, {"x", ballX}, {"y", ballY}});
         const auto placed = observer.nextOf(protocol::MessageType::Reply);
@@ -118,6 +156,7 @@ private slots:
         QVERIFY2(client.state() == QProcess::NotRunning, "the client did not finish within 90 s");
         QVERIFY2(client.exitStatus() == QProcess::NormalExit && client.exitCode() == 0, qPrintable(output));
         QVERIFY2(output.contains("reached the ball"), qPrintable(output));
+        QVERIFY2(output.contains(realistic ? "pinhole camera" : "orthographic camera"), qPrintable(output));
         // The ground truth agrees: it started well away and ended touching
         // distance (within the client's 1.5 cm tolerance and its image error).
         QVERIFY2(startDistance > reach + 0.1, qPrintable(QString::number(startDistance)));

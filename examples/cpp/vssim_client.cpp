@@ -55,14 +55,26 @@ enum { kRaw = 0, kPng = 1, kJpeg = 2 };
 constexpr double kStepDuration = 0.03;  // s of simulated time per CONTROL step (--lockstep)
 constexpr int kSilenceTimeout = 10;     // s of wall-clock time without any message before giving up
 
-// Camera colours, (B, G, R) as in OpenCV. Any two differ by at least 127 in some
-// channel, so +-40 per channel never confuses them (red and the orange ball differ
-// only in G) while still accepting blended edge pixels and JPEG noise.
-const cv::Scalar kYellow(0, 255, 255), kBlue(255, 0, 0), kBall(0, 128, 255);
+// Camera colours, (B, G, R) as in OpenCV (docs/protocol.md, "The camera").
+const cv::Scalar kYellow(0, 255, 255), kBlue(255, 0, 0), kBall(0, 128, 255);  // the ball is orange
 const cv::Scalar kIdentity[6] = {{0, 0, 255},   {0, 255, 0},     {255, 0, 255},   // red, green, magenta,
                                  {255, 255, 0}, {255, 255, 255}, {128, 0, 128}};  // cyan, white, purple
-constexpr double kColourTolerance = 40;
-constexpr int kMinBlobArea = 10;          // px: smaller blobs are edge artefacts or noise
+// Colours are told apart by hue, which neither uneven light (vignetting,
+// gradients: they scale B, G and R alike) nor blur (it blends a patch with the
+// black body: a darker pixel of the same hue) change; a colour cast moves it by
+// a few degrees at most. Hues in OpenCV's units (0..180, 2 degrees each): red 0,
+// orange 15, yellow 30, green 60, cyan 90, blue 120, magenta and purple 150.
+// Orange lies 15 from red and yellow, so +-7 keeps every class apart.
+constexpr int kHueTolerance = 7;
+constexpr int kMinSaturation = 128;      // of 255: coloured patches are saturated, white and greys are not
+constexpr int kMinValue = 50;            // of 255: darker pixels (the body, the floor) have no reliable hue
+constexpr int kWhiteMaxSaturation = 70;  // white: little saturation (a colour cast gives it ~20) ...
+constexpr int kWhiteMinValue = 100;      // ... and bright (a vignetted corner still leaves ~160)
+// Magenta and purple share a hue: an identity blob's mean brightness (V) over
+// its team patch's must be within this factor of the nominal ratio (1 for
+// magenta, 0.5 for purple): the two patches lie side by side, under the same light.
+constexpr double kBrightnessRatioTolerance = 1.4;
+constexpr int kMinBlobArea = 10;          // px (after the opening): smaller blobs are edge artefacts or noise
 constexpr int kForegroundThreshold = 40;  // a pixel is "new" if it differs this much from the background
 
 struct ProtocolError : std::runtime_error {
@@ -358,63 +370,255 @@ Frame parseFrame(const std::vector<std::uint8_t>& p) {
 // ---------------------------------------------------------------------------
 // Vision: colour blobs -> robot pose and ball position, in the field frame.
 // ---------------------------------------------------------------------------
-struct Camera {  // from WELCOME: u = centre_u + scale x, v = centre_v - scale y
-    double scale = 1, centreU = 0, centreV = 0;
-    // Pixel indices (fractional for centroids) -> field metres; pixel i's centre is u = i + 0.5.
-    cv::Point2d toField(cv::Point2d px) const {
-        return {(px.x + 0.5 - centreU) / scale, (centreV - (px.y + 0.5)) / scale};
+
+// WELCOME's <where>.<key> as a finite number (positive if asked), or a clear error.
+double cameraNumber(const Json& object, const std::string& key, bool positive = false,
+                    const std::string& where = "camera") {
+    const Json& v = object[key];
+    if (v.type != Json::Number || !std::isfinite(v.number) || (positive && v.number <= 0))
+        throw ProtocolError("WELCOME's " + where + "." + key + " is " + (v.type == Json::Null ? "missing" : "not") +
+                            " a finite" + (positive ? " positive" : "") + " number");
+    return v.number;
+}
+
+// Pixel -> field, from WELCOME's "camera" (docs/protocol.md, "The camera").
+//
+// "orthographic" (also a camera without "projection", from older servers): the
+// ideal top view, u = centre_u + scale x, v = centre_v - scale y, in continuous
+// coordinates where pixel column i covers u in [i, i+1) (its centre at i + 0.5).
+// Every height looks the same.
+//
+// "pinhole": a camera `mount_height` m above the field centre looking straight down,
+// u along +x and v along -y, through a lens with OpenCV's distortion model
+// (k1, k2, p1, p2, k3); pixel centres at integer coordinates (OpenCV's
+// convention: a centroid of pixel indices goes in as it is). A pixel is
+// undistorted to normalised image coordinates (x_n, y_n), the inverse of
+//   x_d = x_n R + 2 p1 x_n y_n + p2 (r^2 + 2 x_n^2),  y_d = y_n R + p1 (r^2 + 2 y_n^2) + 2 p2 x_n y_n,
+//   R = 1 + k1 r^2 + k2 r^4 + k3 r^6,  r^2 = x_n^2 + y_n^2,  (x_d, y_d) = ((u - cx) / fx, (v - cy) / fy),
+// by Newton's method (what cv::undistortPoints computes, which is in OpenCV's
+// calib3d module: this client needs only core and imgproc), then its viewing
+// ray is cut with the horizontal plane z of what was seen:
+//   x = x_n (height - z),  y = -y_n (height - z).
+// The plane matters (parallax): a robot's patches lie on its top face, z = side,
+// which at 0.7 m from the centre appears 2.7 cm farther out than the floor point
+// under it would; the ball is seen around its centre, z = radius.
+//
+// `delay` is how old an image is when it arrives: the camera's latency, half its
+// jitter and half its exposure (a blurred blob is where the body was in the
+// middle of the exposure), from WELCOME's camera.settings; 0 without them.
+struct Camera {
+    bool pinhole = false;
+    double scale = 1, centreU = 0, centreV = 0;                               // orthographic
+    double height = 2, fx = 1, fy = 1, cx = 0, cy = 0;                        // pinhole
+    double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;                            // pinhole: lens distortion
+    double delay = 0;                                                         // s
+
+    explicit Camera(const Json& c) {
+        if (c.type != Json::Object) throw ProtocolError("WELCOME has no camera object");
+        const std::string projection = c["projection"].type == Json::Null ? "orthographic" : c["projection"].str();
+        if (projection == "orthographic") {
+            scale = cameraNumber(c, "scale", true);
+            centreU = cameraNumber(c, "centre_u");
+            centreV = cameraNumber(c, "centre_v");
+        } else if (projection == "pinhole") {
+            pinhole = true;
+            // The camera's height above the field, m: "mount_height" ("height" is
+            // the image's, px), else the camera settings' "height".
+            const Json& s = c["settings"];
+            height = c["mount_height"].type == Json::Null && s["height"].type != Json::Null
+                         ? cameraNumber(s, "height", true, "camera.settings")
+                         : cameraNumber(c, "mount_height", true);
+            const Json& m = c["matrix"];
+            auto entry = [&](int row, int column) {
+                if (m.type != Json::Array || m.items.size() != 3 || m.items[row].type != Json::Array ||
+                    m.items[row].items.size() != 3 || m.items[row].items[column].type != Json::Number ||
+                    !std::isfinite(m.items[row].items[column].number))
+                    throw ProtocolError("WELCOME's camera.matrix is not a 3 x 3 array of numbers");
+                return m.items[row].items[column].number;
+            };
+            fx = entry(0, 0), cx = entry(0, 2), fy = entry(1, 1), cy = entry(1, 2);
+            if (!(fx > 0 && fy > 0) || entry(0, 1) != 0 || entry(1, 0) != 0 || entry(2, 0) != 0 || entry(2, 1) != 0 ||
+                entry(2, 2) != 1)
+                throw ProtocolError("WELCOME's camera.matrix is not [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0");
+            const Json& d = c["distortion"];
+            if (d.type != Json::Null) {
+                if (d.type != Json::Array || (d.items.size() != 4 && d.items.size() != 5))
+                    throw ProtocolError("WELCOME's camera.distortion is not [k1, k2, p1, p2, k3]");
+                double* coefficient[5] = {&k1, &k2, &p1, &p2, &k3};
+                for (std::size_t i = 0; i < d.items.size(); ++i) {
+                    if (d.items[i].type != Json::Number || !std::isfinite(d.items[i].number))
+                        throw ProtocolError("WELCOME's camera.distortion is not [k1, k2, p1, p2, k3]: not numbers");
+                    *coefficient[i] = d.items[i].number;
+                }
+            }
+        } else {
+            throw ProtocolError("WELCOME's camera.projection is \"" + projection +
+                                "\": expected \"orthographic\" or \"pinhole\"");
+        }
+        const Json& s = c["settings"];
+        if (s.type != Json::Null && s.type != Json::Object) throw ProtocolError("WELCOME's camera.settings is not an object");
+        const std::pair<const char*, double> parts[] = {{"latency", 1.0}, {"jitter", 0.5}, {"exposure", 0.5}};
+        for (const auto& [key, weight] : parts)
+            if (s[key].type != Json::Null) delay += weight * cameraNumber(s, key, false, "camera.settings");
+    }
+
+    // The distortion of normalised image coordinates (OpenCV's model, above).
+    cv::Point2d distort(cv::Point2d n) const {
+        const double r2 = n.x * n.x + n.y * n.y, radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+        return {n.x * radial + 2 * p1 * n.x * n.y + p2 * (r2 + 2 * n.x * n.x),
+                n.y * radial + p1 * (r2 + 2 * n.y * n.y) + 2 * p2 * n.x * n.y};
+    }
+    // Its inverse by Newton's method, from the distorted point, to 1e-12.
+    cv::Point2d undistort(cv::Point2d d) const {
+        cv::Point2d n = d;
+        for (int i = 0; i < 50; ++i) {
+            const cv::Point2d residual = distort(n) - d;
+            if (std::hypot(residual.x, residual.y) < 1e-12) break;
+            const double r2 = n.x * n.x + n.y * n.y, radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+            const double slope = k1 + r2 * (2 * k2 + 3 * k3 * r2);  // d radial / d r^2
+            const double a = radial + 2 * n.x * n.x * slope + 2 * p1 * n.y + 6 * p2 * n.x;  // d x_d / d x_n
+            const double b = 2 * n.x * n.y * slope + 2 * p1 * n.x + 2 * p2 * n.y;         // d x_d / d y_n = d y_d / d x_n
+            const double e = radial + 2 * n.y * n.y * slope + 6 * p1 * n.y + 2 * p2 * n.x;  // d y_d / d y_n
+            const double det = a * e - b * b;
+            if (det == 0 || !std::isfinite(det)) break;
+            n -= cv::Point2d((e * residual.x - b * residual.y) / det, (a * residual.y - b * residual.x) / det);
+        }
+        return n;
+    }
+    // Pixel coordinates in OpenCV's convention (pixel centres at integers: a
+    // centroid of pixel indices) of something at height z m -> field metres.
+    cv::Point2d toField(cv::Point2d px, double z) const {
+        if (!pinhole) return {(px.x + 0.5 - centreU) / scale, (centreV - (px.y + 0.5)) / scale};
+        if (!(z < height)) throw std::invalid_argument("a point at or above the camera");
+        const cv::Point2d n = undistort({(px.x - cx) / fx, (px.y - cy) / fy});
+        return {n.x * (height - z), -n.y * (height - z)};
     }
 };
 
-// Centroids (pixel indices) of the blobs of one colour, largest first. Only
-// pixels that differ from the background (`foreground`) count: that keeps the
-// white field markings out of the white identity colour. A 3x3 opening removes
-// one-pixel fringes, e.g. the purple anti-aliased edge of a magenta patch.
-std::vector<cv::Point2d> findBlobs(const cv::Mat& image, const cv::Mat& foreground, const cv::Scalar& bgr) {
+struct Blob {
+    cv::Point2d centroid;  // pixel indices (OpenCV's convention)
+    int area = 0;          // px
+    double value = 0;      // mean V (brightness) of its pixels
+};
+
+// The HSV of a nominal colour (OpenCV's units: hue 0..180).
+cv::Vec3b hsvOf(const cv::Scalar& bgr) {
+    cv::Mat pixel(1, 1, CV_8UC3, bgr), hsv;
+    cv::cvtColor(pixel, hsv, cv::COLOR_BGR2HSV);
+    return hsv.at<cv::Vec3b>(0, 0);
+}
+
+// The blobs of one colour's class in the HSV image, largest first. Only pixels
+// that differ from the background (`foreground`) count: that keeps the white
+// field markings and the grey walls out of the white class. A 3x3 opening
+// removes what is one or two pixels wide (anti-aliased fringes, isolated noisy
+// pixels); blobs still under kMinBlobArea pixels are dropped.
+std::vector<Blob> findBlobs(const cv::Mat& hsv, const cv::Mat& foreground, const cv::Scalar& bgr) {
+    const cv::Vec3b nominal = hsvOf(bgr);
     cv::Mat mask, labels, stats, centroids;
-    const cv::Scalar tolerance = cv::Scalar::all(kColourTolerance);
-    cv::inRange(image, bgr - tolerance, bgr + tolerance, mask);
+    if (nominal[1] == 0) {  // white: any hue, little saturation, bright
+        cv::inRange(hsv, cv::Scalar(0, 0, kWhiteMinValue), cv::Scalar(180, kWhiteMaxSaturation, 255), mask);
+    } else {  // hue within the tolerance, around the circle (180 = 0)
+        const int low = nominal[0] - kHueTolerance, high = nominal[0] + kHueTolerance;
+        cv::inRange(hsv, cv::Scalar(std::max(low, 0), kMinSaturation, kMinValue),
+                    cv::Scalar(std::min(high, 179), 255, 255), mask);
+        cv::Mat wrapped;
+        if (low < 0) cv::inRange(hsv, cv::Scalar(low + 180, kMinSaturation, kMinValue), cv::Scalar(179, 255, 255), wrapped);
+        if (high > 179) cv::inRange(hsv, cv::Scalar(0, kMinSaturation, kMinValue), cv::Scalar(high - 180, 255, 255), wrapped);
+        if (!wrapped.empty()) mask |= wrapped;
+    }
     mask &= foreground;
     cv::morphologyEx(mask, mask, cv::MORPH_OPEN, cv::Mat::ones(3, 3, CV_8U));
     const int count = cv::connectedComponentsWithStats(mask, labels, stats, centroids);
-    std::vector<std::pair<int, cv::Point2d>> blobs;
-    for (int i = 1; i < count; ++i)  // label 0 is the background
-        if (stats.at<int>(i, cv::CC_STAT_AREA) >= kMinBlobArea)
-            blobs.push_back(
-                {stats.at<int>(i, cv::CC_STAT_AREA), {centroids.at<double>(i, 0), centroids.at<double>(i, 1)}});
-    std::sort(blobs.begin(), blobs.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    std::vector<cv::Point2d> result;
-    for (const auto& b : blobs) result.push_back(b.second);
-    return result;
+    std::vector<double> valueSum(std::size_t(count), 0.0);
+    for (int r = 0; r < labels.rows; ++r) {
+        const int* label = labels.ptr<int>(r);
+        const cv::Vec3b* pixel = hsv.ptr<cv::Vec3b>(r);
+        for (int c = 0; c < labels.cols; ++c)
+            if (label[c] > 0) valueSum[std::size_t(label[c])] += pixel[c][2];
+    }
+    std::vector<Blob> blobs;
+    for (int i = 1; i < count; ++i) {  // label 0 is the background
+        const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+        if (area >= kMinBlobArea)
+            blobs.push_back({{centroids.at<double>(i, 0), centroids.at<double>(i, 1)}, area, valueSum[std::size_t(i)] / area});
+    }
+    std::sort(blobs.begin(), blobs.end(), [](const Blob& a, const Blob& b) { return a.area > b.area; });
+    return blobs;
 }
 
 struct Pose {
     double x, y, theta;
 };
 
-// Each identity blob is paired with the nearest team-colour blob: on a robot their
-// centroids are 0.5 side apart, so pairs farther than 0.75 side are rejected. The
-// centre is their midpoint, the heading points from the team to the identity patch.
-std::optional<Pose> findRobot(const cv::Mat& image, const cv::Mat& foreground, const Camera& camera,
+// The patches lie on the robot's top face: their centroids are mapped to the
+// field at z = side. Each identity blob is paired with the nearest team blob:
+// on a robot their centres are 0.5 side apart, so pairs farther than 0.75 side
+// are rejected. Identity colours of the same hue (magenta, purple) differ in
+// brightness: the identity blob's mean V over the team blob's must be near the
+// nominal ratio. The centre is the midpoint, the heading points from the team
+// to the identity patch.
+std::optional<Pose> findRobot(const cv::Mat& hsv, const cv::Mat& foreground, const Camera& camera,
                               const cv::Scalar& team, const cv::Scalar& identity, double side) {
-    const std::vector<cv::Point2d> teamBlobs = findBlobs(image, foreground, team);
-    double best = 0.75 * side * camera.scale;
+    const std::vector<Blob> teamBlobs = findBlobs(hsv, foreground, team);
+    const double expectedRatio = double(hsvOf(identity)[2]) / hsvOf(team)[2];
+    double best = 0.75 * side;
     std::optional<Pose> pose;
-    for (const cv::Point2d& id : findBlobs(image, foreground, identity))
-        for (const cv::Point2d& tb : teamBlobs)
-            if (double d = cv::norm(id - tb); d <= best) {
+    for (const Blob& id : findBlobs(hsv, foreground, identity)) {
+        const cv::Point2d b = camera.toField(id.centroid, side);
+        for (const Blob& tb : teamBlobs) {
+            if (std::abs(std::log(id.value / tb.value / expectedRatio)) > std::log(kBrightnessRatioTolerance)) continue;
+            const cv::Point2d a = camera.toField(tb.centroid, side);
+            if (const double d = std::hypot(b.x - a.x, b.y - a.y); d <= best) {
                 best = d;
-                const cv::Point2d a = camera.toField(tb), b = camera.toField(id);
                 pose = Pose{(a.x + b.x) / 2, (a.y + b.y) / 2, std::atan2(b.y - a.y, b.x - a.x)};
             }
+        }
+    }
     return pose;
 }
 
-std::optional<cv::Point2d> findBall(const cv::Mat& image, const cv::Mat& foreground, const Camera& camera) {
-    const std::vector<cv::Point2d> blobs = findBlobs(image, foreground, kBall);
+std::optional<cv::Point2d> findBall(const cv::Mat& hsv, const cv::Mat& foreground, const Camera& camera,
+                                    double radius) {
+    const std::vector<Blob> blobs = findBlobs(hsv, foreground, kBall);
     if (blobs.empty()) return std::nullopt;
-    return camera.toField(blobs.front());  // the largest orange blob
+    return camera.toField(blobs.front().centroid, radius);  // the largest orange blob, seen around its centre
 }
+
+double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+
+// Where a body is now, from an image `delay` s old: constant velocity.
+// An image shows the world as it was `delay` s ago (Camera::delay: 55 to 60 ms
+// with the realistic camera), while the voltages we send act from now on;
+// steering from the image as it is would chase where the robot was (at 1.2 m/s,
+// 6.6 cm back) and overshoot every turn. So each body is moved forward by its
+// velocity times the delay. The velocity is the change between consecutive
+// images over their time difference (frame times: skipped or dropped frames are
+// accounted for), smoothed over about two images; a gap longer than 0.2 s
+// starts again from rest. With the ideal camera, delay 0: the image as it is.
+struct Predictor {
+    double delay;
+    bool angular;  // the last coordinate is an angle
+    std::vector<double> last, velocity;
+    double lastTime = 0;
+
+    std::vector<double> update(double time, std::vector<double> observed) {
+        if (delay <= 0) return observed;
+        std::vector<double> v(observed.size(), 0.0);
+        if (!last.empty() && time - lastTime > 0 && time - lastTime <= 0.2) {
+            for (std::size_t i = 0; i < v.size(); ++i) {
+                double change = observed[i] - last[i];
+                if (angular && i + 1 == v.size()) change = wrapAngle(change);
+                v[i] = change / (time - lastTime);
+                if (!velocity.empty()) v[i] = 0.5 * v[i] + 0.5 * velocity[i];  // smoothing: half the newest
+            }
+        }
+        last = observed, lastTime = time, velocity = v;
+        for (std::size_t i = 0; i < v.size(); ++i) observed[i] += v[i] * delay;
+        if (angular) observed.back() = wrapAngle(observed.back());
+        return observed;
+    }
+};
 
 // ---------------------------------------------------------------------------
 // Control: heading error -> differential voltage, distance -> common voltage.
@@ -426,8 +630,6 @@ constexpr double kDistanceGain = 20.0;  // V of common voltage per m of distance
 constexpr double kCruiseVoltage = 5.0;  // V: the common voltage never exceeds this (~1.2 m/s)
 
 constexpr double kPi = 3.14159265358979323846;
-
-double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 struct GoToPoint {
     double maxVoltage;
@@ -455,11 +657,12 @@ struct Options {
     int robot = 0;
     bool lockstep = false, verbose = false;
     double maxTime = 20;
+    double delay = -1;  // s; < 0: from WELCOME's camera settings
 };
 
 const char* kUsage =
     "usage: vssim_example_client [--host H] [--port N] [--team yellow|blue] [--robot ID]\n"
-    "                            [--encoding png|raw|jpeg] [--lockstep] [--max-time S] [--verbose]\n"
+    "                            [--encoding png|raw|jpeg] [--lockstep] [--max-time S] [--delay S] [--verbose]\n"
     "Drives one robot to the ball using only the camera images of a `vssim serve` server.\n"
     "  --host H        server address (default 127.0.0.1)\n"
     "  --port N        server port (default 10030)\n"
@@ -468,7 +671,17 @@ const char* kUsage =
     "  --encoding E    image encoding: png (default), raw or jpeg\n"
     "  --lockstep      step simulated time ourselves, 0.03 s per decision (`vssim serve --lockstep`)\n"
     "  --max-time S    give up (exit 1) after S simulated seconds (default 20)\n"
+    "  --delay S       how old an image is on arrival: the robot and the ball are predicted S s forward\n"
+    "                  (default: WELCOME's camera latency + jitter/2 + exposure/2; 0 for the ideal camera)\n"
     "  --verbose       print the estimates at every frame\n"
+    "Vision (examples/README.md): pixels that differ from the background are classed by hue\n"
+    "(saturation and brightness above a floor; white: low saturation; purple: magenta at half the\n"
+    "team patch's brightness), opened 3x3, blobs under 10 px dropped; the robot is its identity blob\n"
+    "next to its team blob. A centroid (c, r) of pixel indices becomes metres through WELCOME's camera:\n"
+    "orthographic x = (c + 0.5 - centre_u) / scale, y = (centre_v - r - 0.5) / scale; pinhole: undistorted\n"
+    "(matrix, distortion; Newton's method) to (x_n, y_n), then x = x_n (mount_height - z),\n"
+    "y = -y_n (mount_height - z) at the height z seen: z = side for the patches on the robot's top face,\n"
+    "z = radius for the ball. Robot and ball are predicted forward over the delay (constant velocity).\n"
     "Exit status: 0 ball reached, 1 --max-time passed, 2 connection or protocol error.\n";
 
 int run(const Options& o) {
@@ -485,25 +698,30 @@ int run(const Options& o) {
         if (type == kWelcome) welcome = parseJson(payload);
     }
 
-    const Json& cam = welcome["camera"];
-    const Camera camera{cam["scale"].num(), cam["centre_u"].num(), cam["centre_v"].num()};
+    const Camera camera(welcome["camera"]);
+    const double delay = o.delay >= 0 ? o.delay : camera.delay;
     const Json* robot = nullptr;
     for (const Json& r : welcome["robots"].items)
         if (r["team"].str() == o.team && r["id"].num() == o.robot) robot = &r;
     if (!robot) throw ProtocolError("the scene has no " + o.team + " robot with id " + std::to_string(o.robot));
     const int index = int((*robot)["index"].num());
     const double side = (*robot)["side"].num();
-    const double reachDistance = side / 2 + welcome["ball"]["radius"].num() + 0.015;
+    const double ballRadius = welcome["ball"]["radius"].num();
+    const double reachDistance = side / 2 + ballRadius + 0.015;
     const cv::Scalar team = o.team == "yellow" ? kYellow : kBlue, identity = kIdentity[o.robot % 6];
     GoToPoint controller{(*robot)["max_voltage"].num()};
-    std::printf("connected to %s (%s mode) as %s: driving %s (index %d) to the ball\n", welcome["server"].str().c_str(),
-                welcome["mode"].str().c_str(), o.team.c_str(), (*robot)["name"].str().c_str(), index);
+    Predictor robotPredictor{delay, true}, ballPredictor{delay, false};
+    std::printf("connected to %s (%s mode) as %s: driving %s (index %d) to the ball; %s camera", welcome["server"].str().c_str(),
+                welcome["mode"].str().c_str(), o.team.c_str(), (*robot)["name"].str().c_str(), index,
+                camera.pinhole ? "pinhole" : "orthographic");
+    if (delay > 0) std::printf(", images %.0f ms old", delay * 1000);
+    std::printf("\n");
     if (welcome["mode"].str() == "lockstep" && !o.lockstep)
         std::fprintf(stderr,
                      "note: the server is in lockstep mode: time only advances when a client steps it "
                      "(use --lockstep to do it from this client)\n");
 
-    cv::Mat background, image, foreground;
+    cv::Mat background, image, foreground, hsv;
     int stepId = 0;  // id of our CONTROL step awaiting its REPLY (lockstep only)
     long skipped = 0;  // images passed over because a newer one had already arrived
     char estimate[160] = "nothing seen yet";
@@ -559,8 +777,18 @@ int run(const Options& o) {
         cv::split(difference, channels);
         foreground = cv::max(cv::max(channels[0], channels[1]), channels[2]) > kForegroundThreshold;
 
-        const std::optional<Pose> pose = findRobot(image, foreground, camera, team, identity, side);
-        const std::optional<cv::Point2d> ball = findBall(image, foreground, camera);
+        cv::cvtColor(image, hsv, cv::COLOR_BGR2HSV);
+        std::optional<Pose> pose = findRobot(hsv, foreground, camera, team, identity, side);
+        std::optional<cv::Point2d> ball = findBall(hsv, foreground, camera, ballRadius);
+        // Where they are now, the image being `delay` s old (Predictor).
+        if (pose) {
+            const std::vector<double> p = robotPredictor.update(frame.time, {pose->x, pose->y, pose->theta});
+            pose = Pose{p[0], p[1], p[2]};
+        }
+        if (ball) {
+            const std::vector<double> b = ballPredictor.update(frame.time, {ball->x, ball->y});
+            ball = cv::Point2d(b[0], b[1]);
+        }
         double right = 0, left = 0;  // lost sight of something: wait for a better image
         if (!pose || !ball) {
             std::snprintf(estimate, sizeof estimate, "robot %sseen, ball %sseen", pose ? "" : "not ",
@@ -629,6 +857,8 @@ int main(int argc, char** argv) {
                 o.lockstep = true;
             else if (arg == "--max-time")
                 o.maxTime = std::stod(value());
+            else if (arg == "--delay")
+                o.delay = std::stod(value());
             else if (arg == "--verbose")
                 o.verbose = true;
             else
@@ -641,6 +871,14 @@ int main(int argc, char** argv) {
     if ((o.team != "yellow" && o.team != "blue") ||
         (o.encoding != "png" && o.encoding != "raw" && o.encoding != "jpeg") || o.robot < 0) {
         std::fprintf(stderr, "bad --team, --encoding or --robot\n%s", kUsage);
+        return 2;
+    }
+    if (!(o.maxTime > 0) || !std::isfinite(o.maxTime)) {
+        std::fprintf(stderr, "bad --max-time %g: expected a positive number of seconds\n%s", o.maxTime, kUsage);
+        return 2;
+    }
+    if (o.delay != -1 && !(o.delay >= 0 && o.delay <= 1)) {
+        std::fprintf(stderr, "bad --delay %g: expected 0 to 1 s\n%s", o.delay, kUsage);
         return 2;
     }
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // one line at a time, also into a pipe

@@ -7,7 +7,11 @@ It shows the whole protocol of docs/protocol.md from a team's side:
   2. read WELCOME (field, camera mapping, our robots) and the *background* FRAME;
   3. for every following FRAME: paste its patches onto a copy of the
      background, find our robot (team patch + identity patch) and the ball by
-     colour, and answer with VOLTAGES from a simple go-to-point controller;
+     colour (hue), map them to the field through WELCOME's camera (the ideal
+     orthographic view, or a pinhole lens with distortion: undistorted, then
+     cut with the plane of the robot's top face or the ball's centre), predict
+     them forward over the image's delay, and answer with VOLTAGES from a
+     simple go-to-point controller;
      in real time, a FRAME with another message already waiting behind it is
      skipped, so that a client slower than the camera acts on the newest image;
   4. in lockstep mode (`vssim serve --lockstep`) also advance simulated time
@@ -56,17 +60,29 @@ IDENTITY_COLOURS = [          # by the robot's id within its team, then again fr
     (0, 255, 0),      # 1 green
     (255, 0, 255),    # 2 magenta
     (255, 255, 0),    # 3 cyan
-    (255, 255, 255),  # 4 white (also the field markings: see find_blobs)
-    (128, 0, 128),    # 5 purple
+    (255, 255, 255),  # 4 white (also the field markings: see colour_mask)
+    (128, 0, 128),    # 5 purple: magenta's hue at half its brightness (see find_robot)
 ]
-BALL_COLOUR = (0, 128, 255)   # orange; red (0, 0, 255) differs from it only in G
+BALL_COLOUR = (0, 128, 255)   # orange: hue 30 deg, between red (0) and yellow (60)
 
-# Any two of the colours above differ by at least 127 in some channel, so
-# +-40 per channel never confuses them, while it still accepts the slightly
-# blended pixels near patch edges and JPEG noise.
-COLOUR_TOLERANCE = 40
-MIN_BLOB_AREA = 10            # px: smaller blobs are edge artefacts or noise
-FOREGROUND_THRESHOLD = 40     # a pixel is "new" if it differs this much from the background
+# Colours are told apart by hue, which neither the light's unevenness
+# (vignetting, gradients: they scale B, G and R alike) nor blur (it blends a
+# patch with the black body: a darker pixel of the same hue) change; a colour
+# cast moves it by a few degrees at most. Hues in OpenCV's units (0..180,
+# 2 degrees each): red 0, orange 15, yellow 30, green 60, cyan 90, blue 120,
+# magenta and purple 150. Orange lies 15 from red and yellow, so +-7 keeps
+# every class apart.
+HUE_TOLERANCE = 7
+MIN_SATURATION = 128          # of 255: coloured patches are saturated, the white one and greys are not
+MIN_VALUE = 50                # of 255: darker pixels (the body, the floor) have no reliable hue
+WHITE_MAX_SATURATION = 70     # white: low saturation (a colour cast gives it ~20) ...
+WHITE_MIN_VALUE = 100         # ... and bright (a vignetted corner still leaves ~160)
+# Magenta and purple share a hue: an identity blob's mean brightness (V) over
+# its team patch's must be within this factor of the nominal ratio (1 for
+# magenta, 0.5 for purple): the two patches lie side by side, under the same light.
+BRIGHTNESS_RATIO_TOLERANCE = 1.4
+MIN_BLOB_AREA = 10            # px (after the opening): smaller blobs are edge artefacts or noise
+FOREGROUND_THRESHOLD = 40     # a pixel is "new" if it differs this much from the background (noise: a few levels)
 
 
 class ProtocolError(Exception):
@@ -206,35 +222,136 @@ def paste(image, x, y, patch):
 # Vision: colour blobs -> robot pose and ball position
 # --------------------------------------------------------------------------
 
+# cv2.undistortPointsIter's stopping rule: to 1e-12 in normalised coordinates
+# (about 2e-12 m on the field), instead of cv2.undistortPoints' 5 iterations
+# (about 0.2 mm off in a corner with the realistic lens).
+UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-12)
+
+
+def camera_number(camera, key, positive=False, where="camera"):
+    """WELCOME's <where>.<key> as a float, or a ProtocolError that names it."""
+    value = camera.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or (positive and value <= 0):
+        raise ProtocolError(f"WELCOME's {where}.{key} is {value!r}: expected a finite"
+                            f"{' positive' if positive else ''} number")
+    return float(value)
+
+
 class Camera:
-    """Pixel <-> field mapping from WELCOME's "camera": u = centre_u + scale x, v = centre_v - scale y."""
+    """Pixel -> field, from WELCOME's "camera" (docs/protocol.md, "The camera").
+
+    "orthographic" (also a camera without "projection", from older servers):
+    the ideal top view, u = centre_u + scale x, v = centre_v - scale y, in
+    continuous coordinates where pixel column i covers u in [i, i+1) (its
+    centre at u = i + 0.5). Every height looks the same.
+
+    "pinhole": a camera "mount_height" m above the field centre looking straight
+    down, u along +x and v along -y, through a lens with OpenCV's distortion
+    model; pixel centres at integer coordinates (OpenCV's convention, so a
+    centroid of pixel indices goes in as it is). A pixel is undistorted to
+    normalised image coordinates (x_n, y_n) = ((u - cx) / fx, (v - cy) / fy)
+    before distortion (cv2.undistortPoints with WELCOME's "matrix" and
+    "distortion"), then its viewing ray is cut with the horizontal plane z of
+    what was seen:  x = x_n (height - z),  y = -y_n (height - z).
+    The plane matters (parallax): a robot's patches lie on its top face, z =
+    side, which at 0.7 m from the centre appears 2.7 cm farther out than the
+    floor point under it would; the ball is seen around its centre, z = radius.
+
+    `delay` is how old an image is when it arrives: the camera's latency, half
+    its jitter and half its exposure (a blurred blob is where the body was in
+    the middle of the exposure), from WELCOME's "camera"."settings"; 0 without them."""
 
     def __init__(self, welcome_camera):
-        self.scale = float(welcome_camera["scale"])
-        self.centre_u = float(welcome_camera["centre_u"])
-        self.centre_v = float(welcome_camera["centre_v"])
+        if not isinstance(welcome_camera, dict):
+            raise ProtocolError("WELCOME has no camera object")
+        self.projection = welcome_camera.get("projection", "orthographic")
+        if self.projection == "orthographic":
+            self.scale = camera_number(welcome_camera, "scale", positive=True)
+            self.centre_u = camera_number(welcome_camera, "centre_u")
+            self.centre_v = camera_number(welcome_camera, "centre_v")
+        elif self.projection == "pinhole":
+            # The camera's height above the field, m: "mount_height" ("height"
+            # is the image's, px), else the camera settings' "height".
+            settings = welcome_camera.get("settings")
+            if "mount_height" in welcome_camera or not isinstance(settings, dict) or "height" not in settings:
+                self.height = camera_number(welcome_camera, "mount_height", positive=True)
+            else:
+                self.height = camera_number(settings, "height", positive=True, where="camera.settings")
+            try:
+                self.matrix = np.array(welcome_camera.get("matrix"), dtype=np.float64)
+                self.distortion = np.array(welcome_camera.get("distortion", [0.0] * 5), dtype=np.float64)
+            except (TypeError, ValueError) as e:
+                raise ProtocolError(f"WELCOME's camera.matrix or camera.distortion is not numbers: {e}") from e
+            if (self.matrix.shape != (3, 3) or not np.all(np.isfinite(self.matrix))
+                    or self.matrix[0, 0] <= 0 or self.matrix[1, 1] <= 0
+                    or not np.allclose(self.matrix[2], [0.0, 0.0, 1.0])):
+                raise ProtocolError(f"WELCOME's camera.matrix is {welcome_camera.get('matrix')!r}: expected "
+                                    "[[fx, 0, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0")
+            if self.distortion.ndim != 1 or self.distortion.size not in (4, 5) \
+                    or not np.all(np.isfinite(self.distortion)):
+                raise ProtocolError(f"WELCOME's camera.distortion is {welcome_camera.get('distortion')!r}: "
+                                    "expected [k1, k2, p1, p2, k3]")
+        else:
+            raise ProtocolError(f"WELCOME's camera.projection is {self.projection!r}: "
+                                "expected \"orthographic\" or \"pinhole\"")
+        settings = welcome_camera.get("settings") or {}
+        if not isinstance(settings, dict):
+            raise ProtocolError("WELCOME's camera.settings is not an object")
+        self.delay = sum(weight * camera_number(settings, key, where="camera.settings") for key, weight in
+                         (("latency", 1.0), ("jitter", 0.5), ("exposure", 0.5)) if key in settings)
 
-    def to_field(self, column, row):
-        """Pixel (column, row) indices, possibly fractional (centroids) -> field (x, y) in m.
-        Pixel i covers u in [i, i+1), so its centre is at u = i + 0.5."""
-        u, v = column + 0.5, row + 0.5
-        return (u - self.centre_u) / self.scale, (self.centre_v - v) / self.scale
+    def to_field(self, pixels, z):
+        """Pixel coordinates (column, row) in OpenCV's convention (pixel centres
+        at integers: a centroid of pixel indices), an N x 2 array or one pair,
+        of things at height z m -> their field (x, y) in m, N x 2."""
+        pixels = np.asarray(pixels, dtype=np.float64).reshape(-1, 2)
+        if self.projection == "orthographic":
+            u, v = pixels[:, 0] + 0.5, pixels[:, 1] + 0.5
+            return np.column_stack(((u - self.centre_u) / self.scale, (self.centre_v - v) / self.scale))
+        if not z < self.height:
+            raise ValueError(f"a point at z = {z} m is not below the camera ({self.height} m)")
+        normalised = cv2.undistortPointsIter(pixels.reshape(-1, 1, 2), self.matrix, self.distortion,
+                                             None, None, UNDISTORT_CRITERIA).reshape(-1, 2)
+        depth = self.height - z
+        return np.column_stack((normalised[:, 0] * depth, -normalised[:, 1] * depth))
 
 
-def find_blobs(image, foreground, bgr):
-    """Centroids (column, row) and areas of the blobs of colour bgr, largest first.
+def hsv_of(bgr):
+    """A colour's nominal (hue 0..180, saturation, value) in OpenCV's HSV."""
+    return [int(c) for c in cv2.cvtColor(np.uint8([[bgr]]), cv2.COLOR_BGR2HSV)[0, 0]]
 
-    Only pixels that differ from the background count (`foreground`): that keeps
-    the white field markings out of the white identity colour. A 3x3 opening
-    removes one-pixel-wide fringes, e.g. the anti-aliased edge of a magenta
-    patch on the black body, which is purple."""
-    low = np.clip(np.array(bgr) - COLOUR_TOLERANCE, 0, 255).astype(np.uint8)
-    high = np.clip(np.array(bgr) + COLOUR_TOLERANCE, 0, 255).astype(np.uint8)
-    mask = cv2.inRange(image, low, high) & foreground
+
+def colour_class(hsv, bgr, min_value):
+    """Where the HSV image has colour bgr's class: its hue (within the
+    tolerance, around the circle: 180 = 0), saturated, and at least min_value
+    bright; for white, little saturation."""
+    hue, saturation, _ = hsv_of(bgr)
+    h, s, v = cv2.split(hsv)
+    if saturation == 0:   # white: any hue
+        return (s <= WHITE_MAX_SATURATION) & (v >= min_value)
+    difference = np.abs(h.astype(np.int16) - hue)
+    difference = np.minimum(difference, 180 - difference)
+    return (difference <= HUE_TOLERANCE) & (s >= MIN_SATURATION) & (v >= min_value)
+
+
+def find_blobs(hsv, foreground, bgr):
+    """Blobs of colour bgr's class as (centroid (column, row), area px, mean value V), largest first.
+
+    The class's bright pixels (V >= MIN_VALUE; white: WHITE_MIN_VALUE) among
+    the foreground ones (those that differ from the background: that keeps
+    the white field markings and the grey walls out of the white class); a
+    3x3 opening removes what is one or two pixels wide (anti-aliased fringes,
+    isolated noisy pixels, the markings' crossings); blobs still under
+    MIN_BLOB_AREA pixels are dropped."""
+    white = hsv_of(bgr)[1] == 0
+    bright = colour_class(hsv, bgr, WHITE_MIN_VALUE if white else MIN_VALUE)
+    mask = np.where(bright, np.uint8(255), np.uint8(0)) & foreground
     mask = cv2.morphologyEx(mask, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
-    count, _, stats, centroids = cv2.connectedComponentsWithStats(mask)
-    blobs = [(centroids[i], stats[i, cv2.CC_STAT_AREA]) for i in range(1, count)
-             if stats[i, cv2.CC_STAT_AREA] >= MIN_BLOB_AREA]
+    count, labels, stats, centroids = cv2.connectedComponentsWithStats(mask)
+    areas = stats[:, cv2.CC_STAT_AREA]
+    values = np.bincount(labels.ravel(), weights=hsv[..., 2].ravel(), minlength=count) / np.maximum(areas, 1)
+    blobs = [(centroids[i], int(areas[i]), float(values[i])) for i in range(1, count) if areas[i] >= MIN_BLOB_AREA]
     return sorted(blobs, key=lambda blob: -blob[1])
 
 
@@ -243,33 +360,84 @@ def foreground_mask(image, background):
     return np.where(difference > FOREGROUND_THRESHOLD, 255, 0).astype(np.uint8)
 
 
-def find_robot(image, foreground, camera, team_bgr, identity_bgr, side):
+def find_robot(hsv, foreground, camera, team_bgr, identity_bgr, side):
     """Our robot's (x, y, theta) in the field frame, or None if not seen.
 
-    Each identity blob is paired with the nearest team-colour blob: on the
-    robot their centroids are 0.5 side apart, so pairs farther than 0.75 side
-    are rejected. (The other team's robot with the same id has the same
-    identity colour, but a team patch of the other colour.)"""
-    side_px = side * camera.scale
-    team_blobs = find_blobs(image, foreground, team_bgr)
+    The patches lie on the robot's top face: their centroids are mapped to the
+    field at z = side. Each identity blob is paired with the nearest team blob:
+    on the robot their centres are 0.5 side apart, so pairs farther than 0.75
+    side are rejected. (The other team's robot with the same id has the same
+    identity colour, but a team patch of the other colour.) Identity colours
+    of the same hue (magenta, purple) differ in brightness: the identity
+    blob's mean V over the team blob's must be near the nominal ratio."""
+    team_blobs = find_blobs(hsv, foreground, team_bgr)
+    identity_blobs = find_blobs(hsv, foreground, identity_bgr)
+    if not team_blobs or not identity_blobs:
+        return None
+    team_xy = camera.to_field([blob[0] for blob in team_blobs], side)
+    identity_xy = camera.to_field([blob[0] for blob in identity_blobs], side)
+    expected_ratio = hsv_of(identity_bgr)[2] / hsv_of(team_bgr)[2]
     best = None
-    for identity_centroid, _ in find_blobs(image, foreground, identity_bgr):
-        for team_centroid, _ in team_blobs:
-            distance = float(np.linalg.norm(identity_centroid - team_centroid))
-            if distance <= 0.75 * side_px and (best is None or distance < best[0]):
-                best = (distance, team_centroid, identity_centroid)
+    for i, (_, _, identity_value) in enumerate(identity_blobs):
+        for t, (_, _, team_value) in enumerate(team_blobs):
+            if abs(math.log(identity_value / team_value / expected_ratio)) > math.log(BRIGHTNESS_RATIO_TOLERANCE):
+                continue
+            distance = float(np.linalg.norm(identity_xy[i] - team_xy[t]))
+            if distance <= 0.75 * side and (best is None or distance < best[0]):
+                best = (distance, team_xy[t], identity_xy[i])
     if best is None:
         return None
-    _, team_centroid, identity_centroid = best
-    tx, ty = camera.to_field(*team_centroid)
-    ix, iy = camera.to_field(*identity_centroid)
+    _, (tx, ty), (ix, iy) = best
     # Centre: midpoint of the two patches; heading: from team patch to identity patch.
     return (tx + ix) / 2, (ty + iy) / 2, math.atan2(iy - ty, ix - tx)
 
 
-def find_ball(image, foreground, camera):
-    blobs = find_blobs(image, foreground, BALL_COLOUR)
-    return camera.to_field(*blobs[0][0]) if blobs else None   # the largest orange blob
+def find_ball(hsv, foreground, camera, radius):
+    blobs = find_blobs(hsv, foreground, BALL_COLOUR)
+    if not blobs:
+        return None
+    x, y = camera.to_field(blobs[0][0], radius)[0]   # the largest orange blob, seen around the ball's centre
+    return float(x), float(y)
+
+
+class Predictor:
+    """Where a body is now, from an image `delay` s old: constant velocity.
+
+    An image shows the world as it was `delay` s ago (Camera.delay: 55 to 60
+    ms with the realistic camera), while the voltages we send act from now
+    on; steering from the image as it is would chase where the robot was (at
+    1.2 m/s, 6.6 cm back) and overshoot every turn. So each body is moved
+    forward by its velocity times the delay. The velocity is the change
+    between consecutive images over their time difference (frame times:
+    skipped or dropped frames are accounted for), smoothed over about two
+    images; a gap longer than MAX_GAP starts again from rest. With the ideal
+    camera, delay 0: the image as it is."""
+
+    SMOOTHING = 0.5   # weight of the newest velocity
+    MAX_GAP = 0.2     # s
+
+    def __init__(self, delay, angular):
+        self.delay, self.angular = delay, angular   # angular: the last coordinate is an angle
+        self.last = self.last_time = None
+        self.velocity = None
+
+    def update(self, time, observed):
+        observed = np.asarray(observed, dtype=np.float64)
+        if self.delay <= 0:
+            return tuple(float(c) for c in observed)
+        velocity = np.zeros_like(observed)
+        if self.last is not None and 0 < time - self.last_time <= self.MAX_GAP:
+            change = observed - self.last
+            if self.angular:
+                change[-1] = wrap_angle(change[-1])
+            velocity = change / (time - self.last_time)
+            if self.velocity is not None:
+                velocity = self.SMOOTHING * velocity + (1 - self.SMOOTHING) * self.velocity
+        self.last, self.last_time, self.velocity = observed, time, velocity
+        predicted = observed + velocity * self.delay
+        if self.angular:
+            predicted[-1] = wrap_angle(predicted[-1])
+        return tuple(float(c) for c in predicted)
 
 
 # --------------------------------------------------------------------------
@@ -323,9 +491,27 @@ class GoToPoint:
 # The session
 # --------------------------------------------------------------------------
 
+VISION_HELP = """\
+vision (examples/README.md):
+  colours   pixels that differ from the background by > 40 are classed by hue (OpenCV HSV,
+            +-7 of red 0, orange 15, yellow 30, green 60, cyan 90, blue 120, magenta/purple 150;
+            saturation >= 128, V >= 50; white: saturation <= 70, V >= 100), so uneven light,
+            the colour cast and blur leave them alone; purple is magenta at half the team
+            patch's brightness. Masks are opened 3x3, blobs under 10 px dropped.
+  field     orthographic camera: x = (c + 0.5 - centre_u) / scale, y = (centre_v - r - 0.5) / scale
+            for a centroid (c, r) of pixel indices. Pinhole camera: (c, r) undistorted with
+            WELCOME's matrix and distortion (cv2.undistortPoints) to (x_n, y_n), then
+            x = x_n (mount_height - z), y = -y_n (mount_height - z) at the height z seen:
+            z = side for the patches on the robot's top face, z = radius for the ball.
+  latency   robot and ball are moved forward by their velocity (from the last images)
+            times the delay: --delay, or latency + jitter/2 + exposure/2 from the settings.
+exit status: 0 ball reached, 1 --max-time passed, 2 connection, protocol or option error."""
+
+
 def parse_arguments():
     parser = argparse.ArgumentParser(
-        description="vssim example team client: drives one robot to the ball using only the camera images.")
+        description="vssim example team client: drives one robot to the ball using only the camera images.",
+        epilog=VISION_HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--host", default="127.0.0.1", help="server address (default 127.0.0.1)")
     parser.add_argument("--port", type=int, default=10030, help="server port (default 10030)")
     parser.add_argument("--team", choices=["yellow", "blue"], default="yellow", help="team (default yellow)")
@@ -337,8 +523,19 @@ def parse_arguments():
                         help="step simulated time ourselves, 0.03 s per decision (for `vssim serve --lockstep`)")
     parser.add_argument("--max-time", type=float, default=20.0, metavar="S",
                         help="give up (exit 1) after S simulated seconds (default 20)")
+    parser.add_argument("--delay", type=float, default=None, metavar="S",
+                        help="how old an image is on arrival, s: the robot and the ball are predicted S s "
+                             "forward (default: from WELCOME's camera settings, latency + jitter/2 + "
+                             "exposure/2; 0 for the ideal camera)")
     parser.add_argument("--verbose", action="store_true", help="print the estimates at every frame")
-    return parser.parse_args()
+    args = parser.parse_args()
+    if args.delay is not None and not (math.isfinite(args.delay) and 0 <= args.delay <= 1):
+        parser.error(f"--delay {args.delay:g}: expected 0 to 1 s")
+    if args.robot < 0:
+        parser.error(f"--robot {args.robot}: expected an id >= 0")
+    if not (math.isfinite(args.max_time) and args.max_time > 0):
+        parser.error(f"--max-time {args.max_time:g}: expected a positive number of seconds")
+    return args
 
 
 def wait_for_welcome(conn):
@@ -365,7 +562,8 @@ def run(args):
                            "images": "patches", "encoding": args.encoding})
     welcome = wait_for_welcome(conn)
 
-    camera = Camera(welcome["camera"])
+    camera = Camera(welcome.get("camera"))
+    delay = camera.delay if args.delay is None else args.delay
     robot = our_robot(welcome, args.team, args.robot)
     index, side, max_voltage = robot["index"], float(robot["side"]), float(robot["max_voltage"])
     ball_radius = float(welcome["ball"]["radius"])
@@ -373,8 +571,10 @@ def run(args):
     identity_bgr = IDENTITY_COLOURS[args.robot % len(IDENTITY_COLOURS)]
     reach_distance = side / 2 + ball_radius + 0.015
     controller = GoToPoint(max_voltage)
+    robot_predictor, ball_predictor = Predictor(delay, angular=True), Predictor(delay, angular=False)
     print(f"connected to {welcome.get('server')} ({welcome.get('mode')} mode) as {args.team}: "
-          f"driving {robot['name']} (index {index}) to the ball")
+          f"driving {robot['name']} (index {index}) to the ball; {camera.projection} camera"
+          + (f", images {delay * 1000:.0f} ms old" if delay > 0 else ""))
     if welcome.get("mode") == "lockstep" and not args.lockstep:
         print("note: the server is in lockstep mode: time only advances when a client steps it "
               "(use --lockstep to do it from this client)", file=sys.stderr)
@@ -433,8 +633,14 @@ def run(args):
             paste(image, x, y, patch)
 
         foreground = foreground_mask(image, background)
-        pose = find_robot(image, foreground, camera, team_bgr, identity_bgr, side)
-        ball = find_ball(image, foreground, camera)
+        hsv = cv2.cvtColor(image, cv2.COLOR_BGR2HSV)
+        pose = find_robot(hsv, foreground, camera, team_bgr, identity_bgr, side)
+        ball = find_ball(hsv, foreground, camera, ball_radius)
+        # Where they are now, the image being `delay` s old (Predictor).
+        if pose is not None:
+            pose = robot_predictor.update(time, pose)
+        if ball is not None:
+            ball = ball_predictor.update(time, ball)
 
         if pose is None or ball is None:
             right = left = 0.0    # lost sight of something: wait for a better image
