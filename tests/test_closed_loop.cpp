@@ -95,8 +95,13 @@ private slots:
 
         ProtocolClient observer;
         QVERIFY(observer.connectTo(serve.port));
-        const auto welcome =
-            observer.hello(QJsonObject{{"protocol", 1}, {"role", "observer"}, {"images", "none"}, {"state", true}});
+        // The observer's STATE is the ground truth: without the scene camera's
+        // delay, drops and noise (a HELLO's own camera, docs/protocol.md), so
+        // that it also sees the last instants before the client stops stepping.
+        const QJsonObject exact{{"latency", 0},        {"jitter", 0},        {"drop", 0},
+                                {"position_noise", 0}, {"heading_noise", 0}, {"vanish", 0}};
+        const auto welcome = observer.hello(QJsonObject{
+            {"protocol", 1}, {"role", "observer"}, {"images", "none"}, {"state", true}, {"camera", exact}});
         QVERIFY(welcome);
         // The camera the clients are told about (docs/protocol.md, WELCOME):
         // the ideal one is orthographic (older servers: no "projection").

@@ -117,6 +117,7 @@ private slots:
     void connectionsShowRowsAndRates();
     void connectionsFirasimSwitch();
     void cameraViewMatchesTheRenderer();
+    void cameraViewPreviewsThePresets();
     void statusLine();
     void scoreboardShowsTheGame();
     void scoreboardButtonsAskForCalls();
@@ -345,6 +346,63 @@ void TestUiPanels::cameraViewMatchesTheRenderer() {
 
     view.resize(320, 400);
     QVERIFY(!view.grab().isNull());
+}
+
+// The image a renderer with `camera` gives for the snapshot, as RGB888.
+QImage renderedImage(const Snapshot& s, const CameraSettings& camera) {
+    const CameraRenderer renderer(*s.scene, camera);
+    WorldState state = initialWorldState(*s.scene);
+    state.robots = s.robots;
+    state.ball = s.ball;
+    cv::Mat bgr;
+    std::vector<cv::Rect> patches;
+    renderer.render(state, bgr, patches, static_cast<std::uint64_t>(s.frame));
+    QImage image(bgr.cols, bgr.rows, QImage::Format_RGB888);
+    for (int y = 0; y < bgr.rows; ++y)
+        for (int x = 0; x < bgr.cols; ++x) {
+            const cv::Vec3b c = bgr.at<cv::Vec3b>(y, x);
+            image.setPixel(x, y, qRgb(c[2], c[1], c[0]));
+        }
+    return image;
+}
+
+void TestUiPanels::cameraViewPreviewsThePresets() {
+    const Snapshot s = makeSnapshot();
+    CameraView view;
+    view.setScene(*s.scene);
+    view.showSnapshot(s);
+    QCOMPARE(view.preview(), CameraView::Preview::Scene);
+    QVERIFY(view.shownCamera() == s.scene->camera);
+    const QImage ideal = view.image();
+    QCOMPARE(ideal, renderedImage(s, idealCamera()));  // the scene has no camera key: the ideal camera
+
+    // Choosing the realistic preview in the combo box redraws the last
+    // snapshot through the realistic camera, the frame number seeding its noise.
+    view.previewBox()->setCurrentIndex(2);
+    QCOMPARE(view.preview(), CameraView::Preview::Realistic);
+    QVERIFY(view.shownCamera() == realisticCamera());
+    const QImage realistic = view.image();
+    QCOMPARE(realistic, renderedImage(s, realisticCamera()));
+    QVERIFY(realistic != ideal);
+    // Its corners are darker than the ideal image's (vignetting), its floor noisy.
+    const QColor idealCorner = ideal.pixelColor(2, 2), realCorner = realistic.pixelColor(2, 2);
+    QVERIFY2(realCorner.value() < idealCorner.value(), qPrintable(realCorner.name() + " vs " + idealCorner.name()));
+
+    // Back to the scene's camera by the API; the combo box follows.
+    view.setPreview(CameraView::Preview::Scene);
+    QCOMPARE(view.previewBox()->currentIndex(), 0);
+    QCOMPARE(view.image(), ideal);
+    // A scene with its own camera: the first item shows it.
+    Scene withCamera = *s.scene;
+    withCamera.camera = realisticCamera();
+    withCamera.camera.noise = 0.0;
+    view.setScene(withCamera);
+    Snapshot t = s;
+    t.scene = std::make_shared<const Scene>(withCamera);
+    view.showSnapshot(t);
+    QCOMPARE(view.image(), renderedImage(t, withCamera.camera));
+    view.setPreview(CameraView::Preview::Ideal);
+    QCOMPARE(view.image(), ideal);
 }
 
 void TestUiPanels::statusLine() {
