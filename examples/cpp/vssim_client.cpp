@@ -780,13 +780,7 @@ int run(const Options& o) {
         cv::cvtColor(image, hsv, cv::COLOR_BGR2HSV);
         std::optional<Pose> pose = findRobot(hsv, foreground, camera, team, identity, side);
         std::optional<cv::Point2d> ball = findBall(hsv, foreground, camera, ballRadius);
-        // Arrival is judged on what the image shows: while the robot closes
-        // in, the world now is nearer than that, so the stop is never early.
-        // (A prediction judged it late: the robot brakes as it arrives, which
-        // constant velocity does not foresee.)
-        const std::optional<double> seenDistance =
-            pose && ball ? std::optional<double>(std::hypot(ball->x - pose->x, ball->y - pose->y)) : std::nullopt;
-        // Where they are now, the image being `delay` s old (Predictor): what the controller steers by.
+        // Where they are now, the image being `delay` s old (Predictor).
         if (pose) {
             const std::vector<double> p = robotPredictor.update(frame.time, {pose->x, pose->y, pose->theta});
             pose = Pose{p[0], p[1], p[2]};
@@ -804,7 +798,7 @@ int run(const Options& o) {
             const double distance = std::hypot(ball->x - pose->x, ball->y - pose->y);
             std::snprintf(estimate, sizeof estimate, "robot (%.3f, %.3f) ball (%.3f, %.3f)", pose->x, pose->y, ball->x,
                           ball->y);
-            if (*seenDistance <= reachDistance) {
+            if (distance <= reachDistance) {
                 conn.sendVoltages(index, 0, 0);
                 std::printf("reached the ball at t=%.2f s (frame %u): %s (%ld older images skipped)\n", frame.time,
                             frame.number, estimate, skipped);

@@ -636,13 +636,7 @@ def run(args):
         hsv = cv2.cvtColor(image, cv2.COLOR_BGR2HSV)
         pose = find_robot(hsv, foreground, camera, team_bgr, identity_bgr, side)
         ball = find_ball(hsv, foreground, camera, ball_radius)
-        # Arrival is judged on what the image shows: while the robot closes in,
-        # the world now is nearer than that, so the stop is never early. (A
-        # prediction judged it late: the robot brakes as it arrives, which
-        # constant velocity does not foresee.)
-        seen_distance = (math.hypot(ball[0] - pose[0], ball[1] - pose[1])
-                         if pose is not None and ball is not None else None)
-        # Where they are now, the image being `delay` s old (Predictor): what the controller steers by.
+        # Where they are now, the image being `delay` s old (Predictor).
         if pose is not None:
             pose = robot_predictor.update(time, pose)
         if ball is not None:
@@ -656,7 +650,7 @@ def run(args):
         else:
             distance = math.hypot(ball[0] - pose[0], ball[1] - pose[1])
             last_estimate = (f"robot ({pose[0]:.3f}, {pose[1]:.3f}) ball ({ball[0]:.3f}, {ball[1]:.3f})")
-            if seen_distance <= reach_distance:
+            if distance <= reach_distance:
                 stop()
                 print(f"reached the ball at t={time:.2f} s (frame {frame}): {last_estimate}"
                       + (f" ({skipped} older images skipped)" if skipped else ""))
