@@ -22,7 +22,7 @@ packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev
           python3 python3-numpy python3-opencv python3-matplotlib python3-dev pybind11-dev
           libqt6opengl6-dev libsdl2-dev xvfb xauth
           libprotobuf-dev protobuf-compiler python3-protobuf python3-distributed
-          libbox2d-dev
+          libbox2d-dev zlib1g-dev
           dpkg-dev file desktop-file-utils)
 
 missing=()

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -159,6 +160,7 @@ private slots:
     void bodyOutsideTheImageHasEmptyPatch();
     void renderingIsDeterministic();
     void rawAndPngAreLossless();
+    void storedPngIsLossless();
     void jpegIsClose();
     void decodeRejectsBadData();
     void encodingNames();
@@ -474,6 +476,43 @@ void TestCamera::rawAndPngAreLossless() {
     QVERIFY(decodeImage(roiRaw.data(), roiRaw.size(), ImageEncoding::Raw, 33, 21, decoded, &error));
     QCOMPARE(cv::norm(decoded, roi, cv::NORM_INF), 0.0);
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, encodeImage(cv::Mat(4, 4, CV_8UC1), ImageEncoding::Png));
+}
+
+void TestCamera::storedPngIsLossless() {
+    // Noise as a realistic camera's: random bytes, which deflate cannot shrink.
+    std::mt19937 rng(7);
+    for (const cv::Size size : {cv::Size(640, 480), cv::Size(1, 1), cv::Size(3, 200), cv::Size(300, 219)}) {
+        cv::Mat frame(size, CV_8UC3);
+        for (int y = 0; y < frame.rows; ++y)
+            for (int x = 0; x < frame.cols * 3; ++x) frame.ptr<std::uint8_t>(y)[x] = std::uint8_t(rng());
+        const std::vector<std::uint8_t> png = encodeImage(frame, ImageEncoding::Png, 90, PngDeflate::Stored);
+        // Signature, IHDR (25), IDAT (12 + zlib: 2 + rows of 1 + 3 w + 5 per 65,535-byte block + 4), IEND (12).
+        const std::size_t rawBytes = std::size_t(size.height) * (1 + 3 * std::size_t(size.width));
+        const std::size_t blocks = (rawBytes + 65534) / 65535;
+        QCOMPARE(png.size(), 8 + 25 + 12 + 2 + rawBytes + 5 * blocks + 4 + 12);
+        cv::Mat decoded;
+        std::string error;
+        QVERIFY2(decodeImage(png.data(), png.size(), ImageEncoding::Png, size.width, size.height, decoded, &error),
+                 error.c_str());
+        QCOMPARE(cv::norm(decoded, frame, cv::NORM_INF), 0.0);
+        // OpenCV's own decoder reads it too, to the same pixels.
+        const cv::Mat viaOpenCv = cv::imdecode(png, cv::IMREAD_UNCHANGED);
+        QCOMPARE(viaOpenCv.size(), size);
+        QCOMPARE(cv::norm(viaOpenCv, frame, cv::NORM_INF), 0.0);
+        // A flipped bit in the first pixel is refused (the IDAT chunk's CRC-32
+        // no longer matches), not decoded as another image.
+        std::vector<std::uint8_t> bad = png;
+        bad[8 + 25 + 8 + 2 + 5 + 1] ^= 0x40;
+        QVERIFY(!decodeImage(bad.data(), bad.size(), ImageEncoding::Png, size.width, size.height, decoded, &error));
+    }
+    // A region of interest (non-continuous memory) encodes as its own pixels.
+    const cv::Mat frame = someFrame(3);
+    const cv::Mat roi = frame(cv::Rect(101, 49, 37, 23));
+    const std::vector<std::uint8_t> png = encodeImage(roi, ImageEncoding::Png, 90, PngDeflate::Stored);
+    cv::Mat decoded;
+    std::string error;
+    QVERIFY(decodeImage(png.data(), png.size(), ImageEncoding::Png, 37, 23, decoded, &error));
+    QCOMPARE(cv::norm(decoded, roi, cv::NORM_INF), 0.0);
 }
 
 void TestCamera::jpegIsClose() {

@@ -6,6 +6,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
+#include "camera/png_stored.h"
+
 namespace vssim {
 
 namespace {
@@ -62,7 +64,7 @@ std::optional<ImageEncoding> encodingFromName(std::string_view name) {
     return std::nullopt;
 }
 
-std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding, int jpegQuality) {
+std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding, int jpegQuality, PngDeflate png) {
     if (bgr.type() != CV_8UC3) throw std::invalid_argument("encodeImage: expected a CV_8UC3 BGR image");
     std::vector<std::uint8_t> bytes;
     switch (encoding) {
@@ -73,6 +75,7 @@ std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding
             break;
         }
         case ImageEncoding::Png:
+            if (png == PngDeflate::Stored && !bgr.empty()) return encodePngStored(bgr);
             cv::imencode(".png", bgr, bytes, {cv::IMWRITE_PNG_COMPRESSION, kPngCompressionLevel});
             break;
         case ImageEncoding::Jpeg:

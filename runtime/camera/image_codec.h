@@ -22,9 +22,16 @@ enum class ImageEncoding {
 const char* encodingName(ImageEncoding encoding);
 std::optional<ImageEncoding> encodingFromName(std::string_view name);
 
+// How a PNG's data is deflated: by zlib at level 1 (small for the ideal
+// camera's flat colours), or stored uncompressed (png_stored.h: a camera
+// image with sensor noise, where deflate saves little at 20 times the time).
+enum class PngDeflate { Fast, Stored };
+
 // Encodes a CV_8UC3 BGR image (throws std::invalid_argument for any other
-// type). jpegQuality is clamped to 1..100 and used for Jpeg only.
-std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding, int jpegQuality = 90);
+// type). jpegQuality is clamped to 1..100 and used for Jpeg only; png for
+// Png only. Every PNG decodes to the same pixels whichever `png`.
+std::vector<std::uint8_t> encodeImage(const cv::Mat& bgr, ImageEncoding encoding, int jpegQuality = 90,
+                                      PngDeflate png = PngDeflate::Fast);
 
 // Decodes n bytes into a height x width CV_8UC3 BGR image (width and height
 // 1..65536; a grey PNG or JPEG comes out as BGR too). Raw needs exactly

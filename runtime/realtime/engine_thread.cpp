@@ -209,6 +209,7 @@ void EngineThread::cameraInstant(const Simulation& sim, std::int64_t frame, std:
         const std::int64_t startNs = monotonicNs();
         // A new image each time (the encoder owns it); the frame number seeds its noise.
         renderer_.render(sim.state(), job.image, job.patches, static_cast<std::uint64_t>(job.frame));
+        job.noisy = renderer_.settings().noise > 0.0;
         renderMs_.add(1e-6 * static_cast<double>(monotonicNs() - startNs));
         double area = 0.0;
         for (const cv::Rect& r : job.patches) area += r.area();

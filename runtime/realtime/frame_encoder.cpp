@@ -63,6 +63,7 @@ std::shared_ptr<const FramePacket> FrameEncoder::encode(const EncodeJob& job) {
     packet->instantNs = job.instantNs;
     packet->state = job.state;
     packet->stateJson = job.stateJson;
+    const PngDeflate png = job.noisy ? PngDeflate::Stored : PngDeflate::Fast;
     for (const ImageSubscription& s : job.subscriptions) {
         const std::int64_t startNs = monotonicNs();
         protocol::FrameHeader header;
@@ -73,11 +74,11 @@ std::shared_ptr<const FramePacket> FrameEncoder::encode(const EncodeJob& job) {
         std::vector<protocol::FramePatch> patches;
         if (s.kind == protocol::FrameKind::Full) {
             patches.push_back(
-                {0, 0, job.image.cols, job.image.rows, encodeImage(job.image, s.encoding, s.jpegQuality)});
+                {0, 0, job.image.cols, job.image.rows, encodeImage(job.image, s.encoding, s.jpegQuality, png)});
         } else {
             for (const cv::Rect& r : job.patches) {
                 protocol::FramePatch p{r.x, r.y, r.width, r.height, {}};
-                if (!r.empty()) p.data = encodeImage(job.image(r), s.encoding, s.jpegQuality);
+                if (!r.empty()) p.data = encodeImage(job.image(r), s.encoding, s.jpegQuality, png);
                 patches.push_back(std::move(p));
             }
         }

@@ -28,6 +28,7 @@ struct EncodeJob {
     double time = 0.0;              // s
     std::int64_t instantNs = 0;     // monotonicNs() when the engine reached the instant
     cv::Mat image;                  // the rendered frame (empty when only the state is wanted)
+    bool noisy = false;             // the camera adds sensor noise: PNG data stored, not deflated (image_codec.h)
     std::vector<cv::Rect> patches;  // CameraRenderer::render's patches
     std::vector<ImageSubscription> subscriptions;
     QByteArray state;  // the complete STATE message, or empty
