@@ -1,5 +1,6 @@
 #include "py_world.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -167,7 +168,10 @@ cv::Mat World::cameraImage() const {
     if (!camera_) camera_ = std::make_unique<CameraRenderer>(scene_);
     cv::Mat frame;
     std::vector<cv::Rect> patches;
-    camera_->render(match_->simulation().state(), frame, patches);
+    // The frame number that seeds a noisy camera's sensor noise: the state's
+    // step, so that the same state gives the same bytes and each step its own noise.
+    const WorldState& state = match_->simulation().state();
+    camera_->render(state, frame, patches, static_cast<std::uint64_t>(std::max<std::int64_t>(0, state.step)));
     return frame;
 }
 

@@ -280,6 +280,29 @@ class Camera(unittest.TestCase):
             self.assertAlmostEqual(cols.mean() + 0.5, wd / 2 + scale * x, delta=1.0)
             self.assertAlmostEqual(rows.mean() + 0.5, h / 2 - scale * y, delta=1.0)
 
+    def test_a_scene_camera_renders_through_its_lens_and_noise(self):
+        scene = json.loads(vssim.World("kickoff_3v3").scene_json())
+        scene["camera"] = {"preset": "realistic"}
+        w = vssim.World(scene)
+        ideal = vssim.World("kickoff_3v3").camera_image()
+        first = w.camera_image()
+        # The same state gives the same bytes; the realistic image is not the ideal one.
+        self.assertTrue(np.array_equal(first, w.camera_image()))
+        self.assertFalse(np.array_equal(first, ideal))
+        # Vignetting: the image's corners are darker than the ideal camera's
+        # (the same grey outside the walls there).
+        corners = [(2, 2), (2, 637), (477, 2), (477, 637)]
+        for r, c in corners:
+            self.assertLess(first[r - 2:r + 3, c - 2:c + 3].mean(), ideal[r - 2:r + 3, c - 2:c + 3].mean() - 10)
+        # The sensor noise changes from step to step (drawn from the step
+        # number): a region where nothing moves differs, by about the noise.
+        w.step(0.001)
+        second = w.camera_image()
+        still = (slice(380, 440), slice(150, 250))  # bare floor, bottom left
+        difference = second[still].astype(float) - first[still].astype(float)
+        self.assertGreater(np.abs(difference).mean(), 1.0)
+        self.assertAlmostEqual(difference.std() / np.sqrt(2), 3.0, delta=0.5)
+
 
 class BadInput(unittest.TestCase):
     def setUp(self):
