@@ -10,6 +10,7 @@
 #include <cstdlib>
 
 #include "display.h"
+#include "camera/camera_renderer.h"
 #include "io/scene_io.h"
 #include "main_window.h"
 #include "net/network_address.h"
@@ -104,6 +105,10 @@ int guiCommand(int argc, char** argv) {
     const std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
     if (!scene) {
         err << "vssim gui: " << (path.isEmpty() ? sceneNotFoundMessage(sceneName) : error) << "\n";
+        return 2;
+    }
+    if (const std::string problem = cameraProblem(*scene); !problem.empty()) {
+        err << "vssim gui: " << path << ": " << QString::fromStdString(problem) << "\n";
         return 2;
     }
     MainWindow window(*scene, path, server);

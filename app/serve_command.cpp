@@ -14,6 +14,7 @@
 
 #include "firasim/firasim_server.h"
 #include "firasim/vssref_bridge.h"
+#include "camera/camera_renderer.h"
 #include "io/scene_io.h"
 #include "net/control_server.h"
 #include "net/network_address.h"
@@ -76,8 +77,10 @@ QString serveHelpText() {
                "                       the camera preset, replacing the scene's camera (docs/scenes.md):\n"
                "                       ideal is today's exact top view and instant delivery; realistic a\n"
                "                       webcam's lens, light, noise, blur, 50 ms latency and drops, and\n"
-               "                       centimetre-scale noise on STATE and the FIRASim vision. A client's\n"
-               "                       HELLO may still set its own delivery and noise (docs/protocol.md)\n"
+               "                       millimetre-scale noise on STATE and the FIRASim vision (where a\n"
+               "                       vanished ball leaves the frame without a ball). Every client gets\n"
+               "                       that delivery and noise, observers and loggers too, unless its\n"
+               "                       HELLO sets its own: \"camera\": {\"latency\": 0, ...} (docs/protocol.md)\n"
                "  --hello-timeout S    seconds a new client has to say HELLO (default 5)\n"
                "  --quit-after S       stop after S wall-clock seconds (for scripts and benchmarks)\n"
                "  -h, --help           this help\n"
@@ -334,6 +337,10 @@ int serveCommand(const QStringList& arguments) {
         if (text != "ideal" && text != "realistic")
             return usage(QStringLiteral("--camera: expected ideal or realistic, got \"%1\"").arg(text));
         scene->camera = text == "ideal" ? idealCamera() : realisticCamera();
+    }
+    if (const std::string problem = cameraProblem(*scene); !problem.empty()) {
+        err() << "vssim serve: " << scenePath << ": " << QString::fromStdString(problem) << "\n";
+        return 2;
     }
     const std::size_t scheduled = scene->commands.size();
     if (!parser.isSet(sceneCommands)) scene->commands.clear();

@@ -134,6 +134,7 @@ private slots:
     void patchesRebuildTheFrame();
     void idealCameraBytesUnchanged();
     void badCamerasAreRefused();
+    void cameraProblemNamesWhatCannotBeDrawn();
 };
 
 void TestCameraLens::projectionMatchesOpenCv() {
@@ -525,6 +526,29 @@ void TestCameraLens::badCamerasAreRefused() {
     CameraSettings blur = realisticCamera();
     blur.blur_samples = 0;
     QVERIFY(refused(blur, "blur_samples"));
+}
+
+void TestCameraLens::cameraProblemNamesWhatCannotBeDrawn() {
+    Scene scene = sceneOf(2);
+    scene.camera = realisticCamera();
+    QCOMPARE(cameraProblem(scene), std::string());
+    // k1 = -1 is within the scene file's range, yet folds the image over near its corners.
+    scene.camera.k1 = -1.0;
+    const std::string folding = cameraProblem(scene);
+    QVERIFY2(folding.find("distortion") != std::string::npos, folding.c_str());
+    // A thread handed such a scene anyway draws with the ideal camera instead of dying.
+    const CameraRenderer fallback = cameraRendererOrIdeal(scene);
+    QVERIFY(fallback.settings() == idealCamera());
+    // Robots as tall as the camera is high.
+    scene.camera = realisticCamera();
+    scene.camera.height = 0.5;
+    for (RobotSpec& r : scene.robots) r.params.side = 0.6;
+    const std::string low = cameraProblem(scene);
+    QVERIFY2(low.find("height") != std::string::npos, low.c_str());
+    QVERIFY(cameraRendererOrIdeal(scene).settings() == idealCamera());
+    // The ideal camera has nothing to refuse.
+    scene.camera = idealCamera();
+    QCOMPARE(cameraProblem(scene), std::string());
 }
 
 QTEST_GUILESS_MAIN(TestCameraLens)

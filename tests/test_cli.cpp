@@ -304,6 +304,15 @@ void TestCli::noArgumentsRunsTheDemo() {
     const Result bad = runVssim({"gui", "--port", "99999"});
     QCOMPARE(bad.exitCode, 2);
     QVERIFY(bad.err.contains("--port"));
+    // A scene whose camera cannot be drawn (its lens folds the image over)
+    // is refused by vssim serve before it listens (vssim gui refuses it
+    // too, once it has a display; the app's Open with a message).
+    QTemporaryDir dir;
+    const QString folding = dir.filePath("folding.json");
+    writeFile(folding, R"({"camera": {"preset": "realistic", "k1": -1}})");
+    const Result refused = runVssim({"serve", folding, "--port", "0"});
+    QCOMPARE(refused.exitCode, 2);
+    QVERIFY2(refused.err.contains("folding.json") && refused.err.contains("distortion"), refused.err.constData());
 }
 
 void TestCli::warnsWhenTheStepIsUnstable() {

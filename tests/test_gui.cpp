@@ -558,6 +558,48 @@ private slots:
         delete watch.data();
     }
 
+    void watchingARealisticServerShowsTheTruth() {
+        // A server with the realistic camera: the watch window asks for the
+        // exact ground truth (no delay, drops or noise; those are for the
+        // teams), and its camera dock knows the server's camera.
+        Scene scene = kickoff();
+        scene.camera = realisticCamera();
+        scene.commands = {{0.0, 1, {4.0, 3.0}}};
+        EngineThread engine(scene, EngineLoopSettings{});
+        ServerSettings settings = anyPort();
+        ControlServer server(scene, engine, settings);
+        QString error;
+        QVERIFY2(server.listen(&error), qPrintable(error));
+        engine.start();
+        auto* watcher = new RemoteWatcher;
+        QVERIFY2(watcher->connectTo("127.0.0.1", server.port(), &error), qPrintable(error));
+        RemoteWindow window(watcher);
+        window.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&window));
+        QTRY_VERIFY(window.fieldView().snapshot() && window.fieldView().snapshot()->time > 0.2);
+        // The camera as WELCOME gives it for this client: the scene's image
+        // (lens, light, noise, blur), the window's own exact delivery.
+        const CameraSettings seenCamera = window.fieldView().snapshot()->scene->camera;
+        CameraSettings expected = realisticCamera();
+        expected.latency = expected.jitter = expected.drop = 0.0;
+        expected.position_noise = expected.heading_noise = expected.vanish = 0.0;
+        QVERIFY(seenCamera == expected);
+        // Paused, the last STATE the window got is the engine's state to the bit.
+        window.findChild<QAction*>("remote.pause")->trigger();
+        QTRY_VERIFY(engine.snapshots().latest()->paused);
+        const auto truth = engine.snapshots().latest();
+        QTRY_VERIFY(window.fieldView().snapshot()->time == truth->time);
+        const auto seen = window.fieldView().snapshot();
+        for (std::size_t i = 0; i < truth->robots.size(); ++i) {
+            QCOMPARE(seen->robots[i].x, truth->robots[i].x);
+            QCOMPARE(seen->robots[i].y, truth->robots[i].y);
+            QCOMPARE(seen->robots[i].theta, truth->robots[i].theta);
+        }
+        QCOMPARE(seen->ball.x, truth->ball.x);
+        engine.requestStop();
+        engine.wait();
+    }
+
     void watchingARemoteServer() {
         // A server in this process (as `vssim serve` would run it), watched
         // through the protocol: the view shows what the engine has.

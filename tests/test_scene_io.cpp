@@ -900,6 +900,8 @@ void TestSceneIo::badCamera_data() {
                                              << "camera.height: must be between 0.5 and 20 m (got 0.05)";
     QTest::newRow("negative focal length") << QByteArray(R"({"camera": {"focal_length": -1}})")
                                            << "camera.focal_length: must be between 0 and 100000 px (got -1)";
+    QTest::newRow("tiny focal length") << QByteArray(R"({"camera": {"preset": "realistic", "focal_length": 0.001}})")
+                                       << "camera.focal_length: must be 0 (automatic) or at least 50 px (got 0.001)";
     QTest::newRow("distortion without a lens") << QByteArray(R"({"camera": {"k1": -0.1}})")
                                                << "camera.projection: lens distortion (k1, k2, p1, p2, k3) needs";
     QTest::newRow("k1 too strong") << QByteArray(R"({"camera": {"preset": "realistic", "k1": -3}})")

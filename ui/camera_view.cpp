@@ -22,7 +22,10 @@ CameraView::CameraView(QWidget* parent) : QWidget(parent) {
 
 CameraView::~CameraView() = default;
 
-const CameraSettings& CameraView::shownCamera() const { return renderer_->settings(); }
+const CameraSettings& CameraView::shownCamera() const {
+    static const CameraSettings ideal = idealCamera();  // before setScene(), or for a camera that cannot be drawn
+    return renderer_ ? renderer_->settings() : ideal;
+}
 
 void CameraView::setScene(const Scene& scene) {
     scene_ = scene;
@@ -45,10 +48,18 @@ void CameraView::setPreview(Preview preview) {
 
 void CameraView::rebuildRenderer() {
     if (!scene_) return;
-    switch (preview_) {
-    case Preview::Scene: renderer_ = std::make_unique<CameraRenderer>(*scene_); break;
-    case Preview::Ideal: renderer_ = std::make_unique<CameraRenderer>(*scene_, idealCamera()); break;
-    case Preview::Realistic: renderer_ = std::make_unique<CameraRenderer>(*scene_, realisticCamera()); break;
+    problem_.clear();
+    const CameraSettings camera = preview_ == Preview::Ideal       ? idealCamera()
+                                  : preview_ == Preview::Realistic ? realisticCamera()
+                                                                   : scene_->camera;
+    try {
+        renderer_ = std::make_unique<CameraRenderer>(*scene_, camera);
+    } catch (const std::exception& e) {
+        // E.g. the realistic preview of a scene whose robots reach the camera's 2 m.
+        renderer_.reset();
+        problem_ = QString::fromStdString(e.what());
+        image_ = QImage();
+        update();
     }
 }
 
@@ -84,7 +95,8 @@ void CameraView::paintEvent(QPaintEvent*) {
     const QRect area = imageArea();
     if (image_.isNull()) {
         p.setPen(Qt::white);
-        p.drawText(area, Qt::AlignCenter, tr("no camera image"));
+        p.drawText(area, Qt::AlignCenter | Qt::TextWordWrap,
+                   problem_.isEmpty() ? tr("no camera image") : tr("cannot draw this camera: %1").arg(problem_));
         return;
     }
     const QSize shown = image_.size().scaled(area.size(), Qt::KeepAspectRatio);

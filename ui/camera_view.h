@@ -54,7 +54,8 @@ private:
     Preview preview_ = Preview::Scene;
     std::optional<Scene> scene_;
     std::optional<Snapshot> last_;  // redrawn when the preview changes
-    std::unique_ptr<CameraRenderer> renderer_;
+    std::unique_ptr<CameraRenderer> renderer_;  // null when the chosen camera cannot be drawn (problem_ says why)
+    QString problem_;
     cv::Mat frame_;                  // BGR, reused between renderings
     std::vector<cv::Rect> patches_;  // unused here, render() fills them
     QImage image_;

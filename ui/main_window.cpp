@@ -493,6 +493,13 @@ bool MainWindow::openScene(const QString& pathOrName, bool interactive) {
     const QString path = resolveScenePath(pathOrName);
     QString error;
     std::optional<Scene> scene = path.isEmpty() ? std::nullopt : loadSceneFile(path, &error);
+    if (scene) {
+        // A camera the server and the camera dock could not draw (a lens that folds the image over, ...).
+        if (const std::string problem = cameraProblem(*scene); !problem.empty()) {
+            error = path + ": " + QString::fromStdString(problem);
+            scene.reset();
+        }
+    }
     if (!scene) {
         if (path.isEmpty()) error = sceneNotFoundMessage(pathOrName);
         if (interactive) QMessageBox::warning(this, tr("Open scene"), error);

@@ -48,6 +48,13 @@ std::optional<Scene> sceneFromWelcome(const QJsonObject& welcome, QString* error
         spec.params.max_voltage = r["max_voltage"].toDouble(spec.params.max_voltage);
         scene.robots.push_back(spec);
     }
+    // The server's camera, so that the camera dock draws what its clients
+    // receive (servers before the realistic camera send no settings: ideal).
+    const QJsonObject settings = welcome["camera"].toObject()["settings"].toObject();
+    QString cameraError;
+    if (const std::optional<CameraSettings> camera =
+            cameraSettingsFromJson(settings, idealCamera(), "WELCOME camera.settings", &cameraError))
+        scene.camera = *camera;
     return scene;
 }
 
@@ -85,9 +92,18 @@ bool RemoteWatcher::connectTo(const QString& host, quint16 port, QString* error,
         *error = QStringLiteral("cannot connect to %1: %2").arg(address_, client_.socket().errorString());
         return false;
     }
-    const std::optional<QJsonObject> welcome = client_.hello(
-        QJsonObject{{"protocol", 1}, {"role", "observer"}, {"name", "vssim gui"}, {"images", "none"}, {"state", true}},
-        timeoutMs);
+    // The window shows the ground truth: without the scene camera's delay,
+    // drops and noise, which are for the teams' clients (a HELLO's own
+    // camera, docs/protocol.md).
+    const QJsonObject exact{{"latency", 0},        {"jitter", 0},        {"drop", 0},
+                            {"position_noise", 0}, {"heading_noise", 0}, {"vanish", 0}};
+    const std::optional<QJsonObject> welcome = client_.hello(QJsonObject{{"protocol", 1},
+                                                                         {"role", "observer"},
+                                                                         {"name", "vssim gui"},
+                                                                         {"images", "none"},
+                                                                         {"state", true},
+                                                                         {"camera", exact}},
+                                                             timeoutMs);
     if (!welcome) {
         const auto reply = client_.next(100);
         *error =

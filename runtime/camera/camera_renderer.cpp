@@ -53,7 +53,13 @@ cv::Rect pixelBounds(const CameraGeometry& camera, const std::array<Eigen::Vecto
 // A point in OpenCV's pixel convention (px) as a fixed-point drawing point.
 cv::Point fixedPoint(const Eigen::Vector2d& p) {
     constexpr double kShiftScale = 1 << kDrawShift;
-    return {static_cast<int>(std::lround(p.x() * kShiftScale)), static_cast<int>(std::lround(p.y() * kShiftScale))};
+    // Far beyond any canvas but inside int once scaled: a body just below a
+    // long lens can project millions of pixels away (and a NaN goes to the edge).
+    constexpr double kFar = 1 << 20;  // px
+    const auto scaled = [&](double v) {
+        return static_cast<int>(std::lround(std::clamp(std::isnan(v) ? kFar : v, -kFar, kFar) * kShiftScale));
+    };
+    return {scaled(p.x()), scaled(p.y())};
 }
 
 // A rectangle of the robot frame (units of the side) as a drawing polygon.
@@ -308,6 +314,23 @@ void CameraRenderer::renderRealistic(const WorldState& state, cv::Mat& frame, st
         patches[i] = box;
     }
     noise_.add(frame, frameNumber);
+}
+
+std::string cameraProblem(const Scene& scene) {
+    try {
+        const CameraRenderer renderer(scene);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return {};
+}
+
+CameraRenderer cameraRendererOrIdeal(const Scene& scene) {
+    try {
+        return CameraRenderer(scene);
+    } catch (const std::exception&) {
+        return CameraRenderer(scene, idealCamera());
+    }
 }
 
 }  // namespace vssim

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "camera/camera_colours.h"
@@ -99,5 +100,17 @@ private:
     void renderRealistic(const WorldState& state, cv::Mat& frame, std::vector<cv::Rect>& patches,
                          std::uint64_t frameNumber) const;
 };
+
+// Why a renderer of `scene` with its own camera cannot be made (the message
+// CameraRenderer's constructor throws: a lens that folds the image over, a
+// camera below the bodies' tops, ...), or an empty string. Commands that show
+// a scene's camera (vssim serve, vssim gui, the app's Open) refuse such a
+// scene with this message.
+std::string cameraProblem(const Scene& scene);
+
+// The scene's camera, or the ideal one when cameraProblem(scene) is not
+// empty: for threads that must not die on a scene the entry points should
+// have refused.
+CameraRenderer cameraRendererOrIdeal(const Scene& scene);
 
 }  // namespace vssim

@@ -437,6 +437,12 @@ bool SceneReader::camera(const QJsonObject& o, const QString& path, CameraSettin
         return fail(join(path, "seed"), QStringLiteral("must be a whole number (got %1)").arg(seed, 0, 'g', 17));
     c.blur_samples = static_cast<int>(samples);
     c.seed = static_cast<std::uint64_t>(seed);
+    if (c.focal_length != 0.0 && c.focal_length < kMinFocalLength)
+        return fail(join(path, "focal_length"),
+                    QStringLiteral("must be 0 (automatic) or at least %1 px (got %2): a 640-px image at %1 px "
+                                   "already sees 162 degrees across")
+                        .arg(kMinFocalLength)
+                        .arg(c.focal_length));
     const bool distorted = c.k1 != 0 || c.k2 != 0 || c.p1 != 0 || c.p2 != 0 || c.k3 != 0;
     if (c.projection == CameraProjection::Orthographic && distorted)
         return fail(join(path, "projection"),

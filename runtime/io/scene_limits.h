@@ -112,6 +112,7 @@ constexpr AllowedRange kGameTick{0.0, 1.0, true, "s"};
 // delays and probabilities a vision system could still work with.
 constexpr AllowedRange kCameraHeight{0.5, 20.0, false, "m"};
 constexpr AllowedRange kFocalLength{0.0, 100000.0, false, "px"};
+constexpr double kMinFocalLength = 50.0;  // px, unless 0 (automatic)
 constexpr AllowedRange kRadialDistortion{-1.0, 1.0, false, ""};
 constexpr AllowedRange kTangentialDistortion{-0.1, 0.1, false, ""};
 constexpr AllowedRange kVignetting{0.0, 1.0, false, ""};

@@ -113,11 +113,11 @@ void ControlServer::setScene(const Scene& scene) {
     scene_ = scene;
     lastReferee_ = {};
     greetedByRole_.clear();
-    background_ = CameraRenderer(scene);
+    background_ = cameraRendererOrIdeal(scene);
 }
 
 ControlServer::ControlServer(const Scene& scene, EngineThread& engine, const ServerSettings& settings, QObject* parent)
-    : QObject(parent), scene_(scene), engine_(engine), settings_(settings), background_(scene) {
+    : QObject(parent), scene_(scene), engine_(engine), settings_(settings), background_(cameraRendererOrIdeal(scene)) {
     connect(&server_, &QTcpServer::newConnection, this, &ControlServer::accept);
     connect(&engine_, &EngineThread::outboxReady, this, &ControlServer::drainEngine, Qt::QueuedConnection);
     // A halted simulation is the server's news too: its log says why.

@@ -11,7 +11,7 @@
 namespace vssim {
 
 EngineThread::EngineThread(const Scene& scene, const EngineLoopSettings& settings, QObject* parent)
-    : QThread(parent), scene_(scene), settings_(settings), renderer_(scene) {
+    : QThread(parent), scene_(scene), settings_(settings), renderer_(cameraRendererOrIdeal(scene)) {
     // Readers see the initial state (and the mode) from the start, before
     // the thread runs.
     EngineLoop initial(scene_, settings_, *this);
@@ -137,7 +137,7 @@ void EngineThread::run() {
         for (const EngineRequest& request : batch) {
             if (request.kind == EngineRequest::Kind::LoadScene) {
                 // The camera draws the new robots; readers see the new scene.
-                renderer_ = CameraRenderer(*request.scene);
+                renderer_ = cameraRendererOrIdeal(*request.scene);
                 sceneShared_ = request.scene;
             }
             loop.handle(request, monotonicNs());

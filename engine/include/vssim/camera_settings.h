@@ -74,7 +74,7 @@ inline CameraSettings idealCamera() { return CameraSettings{}; }
 // Values typical of a VSSS field's camera (docs/protocol.md, "The realistic
 // preset", gives where each comes from): a webcam about 2 m above the field
 // with a slightly wide lens, uneven indoor light, a 1/100 s exposure, a
-// USB webcam's latency, and a vision system's centimetre-scale noise.
+// USB webcam's latency, and a vision system's millimetre-scale noise.
 inline CameraSettings realisticCamera() {
     CameraSettings c;
     c.projection = CameraProjection::Pinhole;
