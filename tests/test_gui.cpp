@@ -584,9 +584,15 @@ private slots:
         expected.latency = expected.jitter = expected.drop = 0.0;
         expected.position_noise = expected.heading_noise = expected.vanish = 0.0;
         QVERIFY(seenCamera == expected);
-        // Paused, the last STATE the window got is the engine's state to the bit.
+        // Paused, then one step, which ends with a camera instant: the STATE
+        // the window gets for it is the engine's state to the bit.
         window.findChild<QAction*>("remote.pause")->trigger();
         QTRY_VERIFY(engine.snapshots().latest()->paused);
+        const double pausedAt = engine.snapshots().latest()->time;
+        QAction* step = window.findChild<QAction*>("remote.step");
+        QTRY_VERIFY(step->isEnabled());
+        step->trigger();
+        QTRY_VERIFY(engine.snapshots().latest()->time > pausedAt);
         const auto truth = engine.snapshots().latest();
         QTRY_VERIFY(window.fieldView().snapshot()->time == truth->time);
         const auto seen = window.fieldView().snapshot();
