@@ -19,6 +19,7 @@
 #include "firasim/firasim_server.h"
 #include "io/scene_io.h"
 #include "realtime/engine_thread.h"
+#include "served_server.h"  // kickoff()
 
 namespace vssim::test {
 
@@ -27,15 +28,6 @@ using fira_message::sim_to_ref::Packet;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The kick-off's bodies as plain physics: no referee, both teams remote.
-inline Scene kickoff() {
-    QString error;
-    std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
-    if (!scene) qFatal("%s", qPrintable(error));
-    scene->commands.clear();
-    scene->game = GameSettings{};
-    return *scene;
-}
 
 inline QByteArray bytes(const Packet& p) {
     std::string s;

@@ -20,46 +20,14 @@
 #include "net/control_server.h"
 #include "net/protocol_client.h"
 #include "realtime/engine_thread.h"
+#include "served_server.h"
 
 using namespace vssim;
 using protocol::MessageType;
+using test::kickoff;
+using test::Served;
 
 namespace {
-
-// The kick-off as plain physics: no referee, both teams remote, no scene commands.
-Scene kickoff() {
-    QString error;
-    std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
-    if (!scene) qFatal("%s", qPrintable(error));
-    scene->commands.clear();
-    scene->game = GameSettings{};
-    return *scene;
-}
-
-// A lockstep engine thread and its server on a free port, torn down in order.
-struct Served {
-    std::unique_ptr<EngineThread> engine;
-    std::unique_ptr<ControlServer> server;
-    explicit Served(const Scene& scene) {
-        EngineLoopSettings loop;
-        loop.mode = RunMode::Lockstep;
-        ServerSettings settings;
-        settings.port = 0;
-        engine = std::make_unique<EngineThread>(scene, loop);
-        server = std::make_unique<ControlServer>(scene, *engine, settings);
-        QString error;
-        if (!server->listen(&error)) qFatal("%s", qPrintable(error));
-        engine->start();
-        QElapsedTimer t;
-        t.start();
-        while (!engine->started() && t.elapsed() < 5000) QThread::msleep(1);
-    }
-    ~Served() {
-        server.reset();
-        engine->requestStop();
-        engine->wait();
-    }
-};
 
 QJsonObject hello(const QString& role, const QString& images, bool state, const QJsonObject& camera = {}) {
     QJsonObject json{{"protocol", 1}, {"role", role}, {"images", images}, {"encoding", "png"}, {"state", state}};
@@ -260,7 +228,7 @@ private slots:
         // L + J / 2 + g / 2.
         const double L = 0.03, J = 0.02, g = 0.002, p = 0.2, longStep = 0.03;
         const int cycles = 1000, shortSteps = 25;
-        Served served(kickoff());
+        Served served(kickoff(), RunMode::Lockstep);
         auto client = join(served.server->port(), hello("observer", "none", true,
                                                          {{"latency", L}, {"jitter", J}, {"drop", p}, {"seed", 5}}));
         QVERIFY(client);
@@ -330,7 +298,7 @@ private slots:
         // Two observers of the same instants: one exact (the scene's ideal
         // camera), one with noise; the differences' spread is the noise.
         const double sigma = 0.01, sigmaTheta = 0.05, vanish = 0.1;
-        Served served(kickoff());
+        Served served(kickoff(), RunMode::Lockstep);
         const quint16 port = served.server->port();
         auto driver = join(port, hello("yellow", "none", false));
         auto exact = join(port, hello("observer", "none", true));
@@ -400,7 +368,7 @@ private slots:
             Scene scene = kickoff();
             scene.camera.latency = 0.05, scene.camera.jitter = 0.02, scene.camera.drop = 0.1;
             scene.camera.position_noise = 0.003, scene.camera.heading_noise = 0.02, scene.camera.vanish = 0.05;
-            Served served(scene);
+            Served served(scene, RunMode::Lockstep);
             auto client = join(served.server->port(), hello("yellow", "patches", true, {{"seed", seed}}));
             std::vector<std::pair<std::uint8_t, QByteArray>> received;
             if (!client) return received;
@@ -426,7 +394,7 @@ private slots:
         // sets all of it to zero, gets exactly what a client of the ideal
         // camera gets: the same bytes in the same order (FRAME, STATE, REPLY).
         auto run = [](const Scene& scene, const QJsonObject& camera) {
-            Served served(scene);
+            Served served(scene, RunMode::Lockstep);
             auto client = join(served.server->port(), hello("yellow", "patches", true, camera));
             std::vector<std::pair<std::uint8_t, QByteArray>> received;
             if (!client) return received;
@@ -460,7 +428,7 @@ private slots:
     void delayedFramesComeAfterLaterReplies() {
         // Latency of 3 steps exactly: a step's REPLY does not wait for its
         // FRAME, which comes just before the REPLY of the step 3 later.
-        Served served(kickoff());
+        Served served(kickoff(), RunMode::Lockstep);
         auto client = join(served.server->port(), hello("yellow", "patches", true, {{"latency", 0.03}}));
         QVERIFY(client);
         for (int n = 1; n <= 10; ++n) {
@@ -499,7 +467,7 @@ private slots:
     void welcomeDescribesTheCamera() {
         Scene scene = kickoff();
         scene.camera = realisticCamera();
-        Served served(scene);
+        Served served(scene, RunMode::Lockstep);
         QJsonObject welcome;
         auto client = join(served.server->port(), hello("observer", "none", true, {{"drop", 0.25}, {"seed", 9}}),
                            &welcome);
@@ -533,7 +501,7 @@ private slots:
     }
 
     void helloCameraErrors() {
-        Served served(kickoff());
+        Served served(kickoff(), RunMode::Lockstep);
         const quint16 port = served.server->port();
         auto error = [&](const QJsonObject& camera) {
             QJsonObject json = hello("observer", "none", true);

@@ -17,9 +17,11 @@
 #include "camera/camera_lens.h"
 #include "camera/camera_renderer.h"
 #include "camera/image_patches.h"
+#include "patch_coverage.h"
 #include "test_support.h"
 
 using namespace vssim;
+using test::patchCoverage;
 
 namespace {
 
@@ -60,26 +62,6 @@ CameraSettings randomLens(std::mt19937& rng) {
     c.p1 = -0.003 + 0.006 * u(rng);
     c.p2 = -0.003 + 0.006 * u(rng);
     return c;
-}
-
-// Where a patch of this colour lies, weighted by how much of each pixel it
-// covers (as tests/test_camera.cpp): pixels whose channels the colour lacks
-// are below 64 and whose others reach a quarter of their value, each
-// weighted by its smallest such channel over the colour's.
-cv::Mat patchCoverage(const cv::Mat& frame, const cv::Vec3b& colour) {
-    cv::Scalar lower, upper;
-    for (int c = 0; c < 3; ++c) lower[c] = colour[c] / 4.0, upper[c] = colour[c] > 0 ? 255 : 63;
-    cv::Mat mask;
-    cv::inRange(frame, lower, upper, mask);
-    cv::Mat coverage(frame.size(), CV_32F, cv::Scalar(1.0)), channels[3], channel;
-    cv::split(frame, channels);
-    for (int c = 0; c < 3; ++c) {
-        if (colour[c] == 0) continue;
-        channels[c].convertTo(channel, CV_32F, 1.0 / colour[c]);
-        coverage = cv::min(coverage, channel);
-    }
-    coverage.setTo(0, ~mask);
-    return coverage;
 }
 
 // Centroid of a weight image in OpenCV's pixel convention (centres at integers).

@@ -32,24 +32,18 @@
 #include "net/protocol_client.h"
 #include "realtime/engine_thread.h"
 #include "realtime/monotonic_clock.h"
+#include "served_server.h"
 
 using namespace vssim;
 using protocol::MessageType;
+using test::kickoff;
+using test::Served;
 
 namespace {
 
 // The kick-off's bodies as plain physics: the built-in scene is a match of
 // the built-in team against itself, but these tests drive every robot
 // themselves, so no referee and both teams remote.
-Scene kickoff() {
-    QString error;
-    std::optional<Scene> scene = loadSceneFile(":/scenes/kickoff_3v3.json", &error);
-    if (!scene) qFatal("%s", qPrintable(error));
-    scene->commands.clear();  // only the clients drive
-    scene->game = GameSettings{};
-    return *scene;
-}
-
 // The kick-off played as a match: the referee on, yellow left to a client,
 // blue the built-in team (the built-in scene vs_builtin_3v3).
 Scene versusBuiltin() {
@@ -58,41 +52,6 @@ Scene versusBuiltin() {
     if (!scene) qFatal("%s", qPrintable(error));
     return *scene;
 }
-
-// An engine thread and its server, torn down in order.
-struct Served {
-    std::unique_ptr<EngineThread> engine;
-    std::unique_ptr<ControlServer> server;
-    QStringList log;
-    Served(const Scene& scene, RunMode mode, int helloTimeoutMs = 5000)
-        : Served(scene, mode, withHelloTimeout(helloTimeoutMs)) {}
-    Served(const Scene& scene, RunMode mode, ServerSettings settings) {
-        EngineLoopSettings loop;
-        loop.mode = mode;
-        settings.port = 0;
-        engine = std::make_unique<EngineThread>(scene, loop);
-        server = std::make_unique<ControlServer>(scene, *engine, settings);
-        QObject::connect(server.get(), &ControlServer::logLine, [this](const QString& line) { log << line; });
-        QString error;
-        if (!server->listen(&error)) qFatal("%s", qPrintable(error));
-        engine->start();
-        // Clients join after instant 0, so that none sees it (the tests count frames).
-        QElapsedTimer t;
-        t.start();
-        while (!engine->started() && t.elapsed() < 5000) QThread::msleep(1);
-    }
-    ~Served() {
-        server.reset();
-        engine->requestStop();
-        engine->wait();
-    }
-    quint16 port() const { return server->port(); }
-    static ServerSettings withHelloTimeout(int ms) {
-        ServerSettings settings;
-        settings.helloTimeoutMs = ms;
-        return settings;
-    }
-};
 
 QJsonObject helloJson(const QString& role, const QString& images = "patches", const QString& encoding = "raw",
                       bool state = false) {

@@ -5,6 +5,7 @@
 
 #include "vssim/game/referee.h"
 #include "vssim/game/sparring_team.h"
+#include "vssim/split_mix.h"
 
 namespace vssim {
 
@@ -58,12 +59,9 @@ void Match::tick() {
 }
 
 double Match::uniform() {
-    // splitmix64 (Steele, Lea and Flood 2014): a fixed sequence per seed.
+    // splitmix64 (vssim/split_mix.h) over a counter stepped by its constant: a fixed sequence per seed.
+    const std::uint64_t z = splitMix64(random_);
     random_ += 0x9e3779b97f4a7c15ull;
-    std::uint64_t z = random_;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
     return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
 }
 

@@ -8,17 +8,12 @@
 #include <string>
 #include <tuple>
 
+#include "vssim/split_mix.h"
+
 namespace vssim {
 
 namespace {
 
-// SplitMix64's output function: a bijective mix of a 64-bit counter.
-std::uint64_t mix64(std::uint64_t z) {
-    z += 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
 
 // Uniform in (0, 1) from 53 bits of a mixed counter.
 double unitOpen(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
@@ -42,9 +37,9 @@ SensorNoise::SensorNoise(double sigma, std::uint64_t seed, std::size_t frameByte
     if (bank_) return;
     // Box-Muller on a counter-based stream: the same bank on every machine.
     auto bank = std::make_shared<std::vector<std::int16_t>>(frameBytes + frameBytes / 2);
-    const std::uint64_t stream = mix64(seed ^ 0x6e6f697365ULL);
+    const std::uint64_t stream = splitMix64(seed ^ 0x6e6f697365ULL);
     for (std::size_t i = 0; i < bank->size(); i += 2) {
-        const double u1 = unitOpen(mix64(stream + 2 * i)), u2 = unitOpen(mix64(stream + 2 * i + 1));
+        const double u1 = unitOpen(splitMix64(stream + 2 * i)), u2 = unitOpen(splitMix64(stream + 2 * i + 1));
         const double radius = sigma * std::sqrt(-2.0 * std::log(u1)), angle = 2.0 * M_PI * u2;
         const auto level = [](double x) { return static_cast<std::int16_t>(std::clamp(std::lround(x), -512L, 512L)); };
         (*bank)[i] = level(radius * std::cos(angle));
@@ -58,7 +53,7 @@ SensorNoise::SensorNoise(double sigma, std::uint64_t seed, std::size_t frameByte
 std::size_t SensorNoise::offset(std::uint64_t frameNumber) const {
     if (!bank_) return 0;
     const std::size_t choices = bank_->size() - frameBytes_ + 1;
-    return static_cast<std::size_t>(mix64(mix64(seed_) ^ mix64(frameNumber + 0x66726d)) % choices);
+    return static_cast<std::size_t>(splitMix64(splitMix64(seed_) ^ splitMix64(frameNumber + 0x66726d)) % choices);
 }
 
 void SensorNoise::add(cv::Mat& frame, std::uint64_t frameNumber) const {

@@ -2,27 +2,22 @@
 
 #include <cmath>
 
+#include "vssim/split_mix.h"
+
 namespace vssim {
 
 namespace {
-
-std::uint64_t splitMix(std::uint64_t z) {
-    z += 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
 
 constexpr double kTwoPi = 6.283185307179586;
 
 }  // namespace
 
 std::uint64_t cameraBits(const CameraDrawKey& key, CameraDraw draw) {
-    std::uint64_t h = splitMix(key.seed);
-    h = splitMix(h ^ key.stream);
-    h = splitMix(h ^ static_cast<std::uint64_t>(key.frame));
-    h = splitMix(h ^ key.body);
-    return splitMix(h ^ static_cast<std::uint64_t>(draw));
+    std::uint64_t h = splitMix64(key.seed);
+    h = splitMix64(h ^ key.stream);
+    h = splitMix64(h ^ static_cast<std::uint64_t>(key.frame));
+    h = splitMix64(h ^ key.body);
+    return splitMix64(h ^ static_cast<std::uint64_t>(draw));
 }
 
 double cameraUniform(const CameraDrawKey& key, CameraDraw draw) {
@@ -33,7 +28,7 @@ double cameraGaussian(const CameraDrawKey& key, CameraDraw draw) {
     // Two uniforms of the draw's own: the second from the first's bits mixed once more.
     const std::uint64_t bits = cameraBits(key, draw);
     const double u1 = 1.0 - static_cast<double>(bits >> 11) * 0x1.0p-53;  // (0, 1]: the log is finite
-    const double u2 = static_cast<double>(splitMix(bits) >> 11) * 0x1.0p-53;
+    const double u2 = static_cast<double>(splitMix64(bits) >> 11) * 0x1.0p-53;
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(kTwoPi * u2);
 }
 
