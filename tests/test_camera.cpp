@@ -17,11 +17,13 @@
 #include "camera/image_codec.h"
 #include "camera/image_patches.h"
 #include "io/scene_io.h"
-#include "patch_coverage.h"
+#include "camera_image_checks.h"
 #include "test_support.h"
 
 using namespace vssim;
+using test::differenceMask;
 using test::patchCoverage;
+using test::unionMask;
 
 namespace {
 
@@ -68,20 +70,6 @@ Eigen::Vector2d robotPoint(const RobotState& r, double forward, double left) {
 }
 
 double angleDifference(double a, double b) { return std::abs(std::remainder(a - b, 2.0 * M_PI)); }
-
-cv::Mat unionMask(cv::Size size, const std::vector<cv::Rect>& rects) {
-    cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
-    for (const cv::Rect& r : rects) mask(r).setTo(255);
-    return mask;
-}
-
-// Pixels where two images differ, as a mask.
-cv::Mat differenceMask(const cv::Mat& a, const cv::Mat& b) {
-    cv::Mat diff, mask;
-    cv::absdiff(a, b, diff);
-    cv::transform(diff, mask, cv::Matx13f(1, 1, 1));
-    return mask > 0;
-}
 
 // A random pose: anywhere inside the field, pressed against a wall, or
 // anywhere around the image (across its edge, or wholly outside it).

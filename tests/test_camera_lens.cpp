@@ -17,11 +17,13 @@
 #include "camera/camera_lens.h"
 #include "camera/camera_renderer.h"
 #include "camera/image_patches.h"
-#include "patch_coverage.h"
+#include "camera_image_checks.h"
 #include "test_support.h"
 
 using namespace vssim;
+using test::differenceMask;
 using test::patchCoverage;
+using test::unionMask;
 
 namespace {
 
@@ -74,19 +76,6 @@ Eigen::Vector2d centroid(const cv::Mat& weight) {
 Eigen::Vector2d robotPoint(const RobotState& r, double forward, double left) {
     return {r.x + std::cos(r.theta) * forward - std::sin(r.theta) * left,
             r.y + std::sin(r.theta) * forward + std::cos(r.theta) * left};
-}
-
-cv::Mat unionMask(cv::Size size, const std::vector<cv::Rect>& rects) {
-    cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
-    for (const cv::Rect& r : rects) mask(r).setTo(255);
-    return mask;
-}
-
-cv::Mat differenceMask(const cv::Mat& a, const cv::Mat& b) {
-    cv::Mat diff, mask;
-    cv::absdiff(a, b, diff);
-    cv::transform(diff, mask, cv::Matx13f(1, 1, 1));
-    return mask > 0;
 }
 
 // The gain of light_gain.h's formula, written out here.

@@ -1,7 +1,9 @@
-// For the camera suites: how much of each pixel a colour patch covers.
+// For the camera suites: how much of each pixel a colour patch covers, and
+// masks of rectangles and of the pixels where two images differ.
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace vssim::test {
 
@@ -24,6 +26,21 @@ inline cv::Mat patchCoverage(const cv::Mat& frame, const cv::Vec3b& colour) {
     }
     coverage.setTo(0, ~mask);
     return coverage;
+}
+
+// The pixels any of these rectangles covers, as a mask (255 inside).
+inline cv::Mat unionMask(cv::Size size, const std::vector<cv::Rect>& rects) {
+    cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+    for (const cv::Rect& r : rects) mask(r).setTo(255);
+    return mask;
+}
+
+// Pixels where two images differ, as a mask.
+inline cv::Mat differenceMask(const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat diff, mask;
+    cv::absdiff(a, b, diff);
+    cv::transform(diff, mask, cv::Matx13f(1, 1, 1));
+    return mask > 0;
 }
 
 }  // namespace vssim::test
