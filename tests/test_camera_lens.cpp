@@ -8,9 +8,7 @@
 
 #include <array>
 #include <cmath>
-#if VSSIM_HAVE_CALIB3D
 #include <opencv2/calib3d.hpp>
-#endif
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -109,9 +107,6 @@ private slots:
 };
 
 void TestCameraLens::projectionMatchesOpenCv() {
-#if !VSSIM_HAVE_CALIB3D
-    QSKIP("built without OpenCV's calib3d (Debian's libopencv-calib3d-dev; ./setup.sh installs it)");
-#else
     const Scene scene;
     const CameraGeometry geometry = cameraGeometryFor(scene.field);
     std::mt19937 rng(17);
@@ -132,13 +127,9 @@ void TestCameraLens::projectionMatchesOpenCv() {
     }
     qInfo("projectToImage vs cv::projectPoints: worst %.2e px over 12000 points, 6 lenses", worst);
     QVERIFY(worst < 0.01);
-#endif
 }
 
 void TestCameraLens::undistortionMatchesOpenCv() {
-#if !VSSIM_HAVE_CALIB3D
-    QSKIP("built without OpenCV's calib3d (Debian's libopencv-calib3d-dev; ./setup.sh installs it)");
-#else
     const Scene scene;
     const CameraGeometry geometry = cameraGeometryFor(scene.field);
     std::mt19937 rng(18);
@@ -171,7 +162,6 @@ void TestCameraLens::undistortionMatchesOpenCv() {
           worstRoundTrip);
     QVERIFY(worstPx < 0.01);
     QVERIFY(worstRoundTrip < 1e-6);
-#endif
 }
 
 void TestCameraLens::pinholeWithoutDistortionHasTheIdealFloor() {
