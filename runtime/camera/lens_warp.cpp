@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
-#include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "camera/shared_by_key.h"
 
 namespace vssim {
 
@@ -86,11 +86,9 @@ std::shared_ptr<const LensWarpMaps> makeMaps(const CameraLens& lens) {
 LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
     const bool distorted = lens.k1 != 0.0 || lens.k2 != 0.0 || lens.p1 != 0.0 || lens.p2 != 0.0 || lens.k3 != 0.0;
     if (!lens.pinhole || !distorted) return;
-    // Renderers of the same lens share its maps while any of them lives (a
-    // scene reloaded, the server's renderer beside the engine's): made once.
+    // Renderers of the same lens share its maps (shared_by_key.h): made once.
     using Key = std::array<double, 11>;
-    static std::mutex mutex;
-    static std::map<Key, std::weak_ptr<const LensWarpMaps>> made;
+    static SharedByKey<Key, LensWarpMaps> made;
     const Key key{lens.fx,
                   lens.fy,
                   lens.cx,
@@ -102,12 +100,7 @@ LensWarp::LensWarp(const CameraLens& lens) : lens_(lens) {
                   lens.k3,
                   static_cast<double>(lens.geometry.width),
                   static_cast<double>(lens.geometry.height)};
-    std::lock_guard lock(mutex);
-    if (auto found = made.find(key); found != made.end()) maps_ = found->second.lock();
-    if (maps_) return;
-    maps_ = makeMaps(lens);
-    for (auto it = made.begin(); it != made.end();) it = it->second.expired() ? made.erase(it) : std::next(it);
-    made[key] = maps_;
+    maps_ = made.get(key, [&] { return makeMaps(lens); });
 }
 
 cv::Size LensWarp::canvasSize() const {

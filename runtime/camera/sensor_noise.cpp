@@ -2,18 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <tuple>
 
+#include "camera/shared_by_key.h"
 #include "vssim/split_mix.h"
 
 namespace vssim {
 
 namespace {
-
 
 // Uniform in (0, 1) from 53 bits of a mixed counter.
 double unitOpen(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
@@ -26,28 +24,24 @@ SensorNoise::SensorNoise(double sigma, std::uint64_t seed, std::size_t frameByte
         throw std::invalid_argument("camera noise: the standard deviation must be >= 0 grey levels (got " +
                                     std::to_string(sigma) + ")");
     if (sigma == 0.0 || frameBytes == 0) return;
-    // Cameras of the same noise share its bank while any of them lives (a
-    // scene reloaded, the server's renderer beside the engine's): made once.
+    // Cameras of the same noise share its bank (shared_by_key.h): made once.
     using Key = std::tuple<double, std::uint64_t, std::size_t>;
-    static std::mutex mutex;
-    static std::map<Key, std::weak_ptr<const std::vector<std::int16_t>>> made;
-    const Key key{sigma, seed, frameBytes};
-    std::lock_guard lock(mutex);
-    if (auto found = made.find(key); found != made.end()) bank_ = found->second.lock();
-    if (bank_) return;
-    // Box-Muller on a counter-based stream: the same bank on every machine.
-    auto bank = std::make_shared<std::vector<std::int16_t>>(frameBytes + frameBytes / 2);
-    const std::uint64_t stream = splitMix64(seed ^ 0x6e6f697365ULL);
-    for (std::size_t i = 0; i < bank->size(); i += 2) {
-        const double u1 = unitOpen(splitMix64(stream + 2 * i)), u2 = unitOpen(splitMix64(stream + 2 * i + 1));
-        const double radius = sigma * std::sqrt(-2.0 * std::log(u1)), angle = 2.0 * M_PI * u2;
-        const auto level = [](double x) { return static_cast<std::int16_t>(std::clamp(std::lround(x), -512L, 512L)); };
-        (*bank)[i] = level(radius * std::cos(angle));
-        if (i + 1 < bank->size()) (*bank)[i + 1] = level(radius * std::sin(angle));
-    }
-    bank_ = std::move(bank);
-    for (auto it = made.begin(); it != made.end();) it = it->second.expired() ? made.erase(it) : std::next(it);
-    made[key] = bank_;
+    static SharedByKey<Key, std::vector<std::int16_t>> made;
+    bank_ = made.get(Key{sigma, seed, frameBytes}, [&] {
+        // Box-Muller on a counter-based stream: the same bank on every machine.
+        auto bank = std::make_shared<std::vector<std::int16_t>>(frameBytes + frameBytes / 2);
+        const std::uint64_t stream = splitMix64(seed ^ 0x6e6f697365ULL);
+        for (std::size_t i = 0; i < bank->size(); i += 2) {
+            const double u1 = unitOpen(splitMix64(stream + 2 * i)), u2 = unitOpen(splitMix64(stream + 2 * i + 1));
+            const double radius = sigma * std::sqrt(-2.0 * std::log(u1)), angle = 2.0 * M_PI * u2;
+            const auto level = [](double x) {
+                return static_cast<std::int16_t>(std::clamp(std::lround(x), -512L, 512L));
+            };
+            (*bank)[i] = level(radius * std::cos(angle));
+            if (i + 1 < bank->size()) (*bank)[i + 1] = level(radius * std::sin(angle));
+        }
+        return std::shared_ptr<const std::vector<std::int16_t>>(std::move(bank));
+    });
 }
 
 std::size_t SensorNoise::offset(std::uint64_t frameNumber) const {

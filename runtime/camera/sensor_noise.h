@@ -1,6 +1,6 @@
 // Gaussian sensor noise of the synthetic camera, cheap enough for every
 // frame: a bank of Gaussian draws made once (1.5 frames' worth of bytes,
-// shared by every camera of the same noise, seed and size while one lives;
+// shared by every camera of the same noise, seed and size: shared_by_key.h;
 // rounded to whole grey levels), of which each frame adds the window that
 // starts at an offset drawn from (seed, frame number). Same seed and frame
 // number, same noise; frames differ by where their window starts.
