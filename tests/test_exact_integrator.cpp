@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <random>
 
 #include "io/scene_io.h"
 #include "test_support.h"
@@ -85,6 +86,8 @@ private slots:
     void stepBoundsHold();
     void stiffRobotAccurateAtLongSteps();
     void positionQuadratureIsOrderTen();
+    void flowExactToRoundingAtEveryScale();
+    void tableCacheGivesTheTablesItWouldBuild();
 };
 
 void TestExactIntegrator::flowMatchesEigenDecomposition_data() {
@@ -349,6 +352,92 @@ void TestExactIntegrator::positionQuadratureIsOrderTen() {
     const double order = std::log2(coarse / fine);
     QVERIFY2(order > 9.0 && order < 11.0,
              qPrintable(QString("order %1 (errors %2, %3 m)").arg(order).arg(coarse).arg(fine)));
+}
+
+void TestExactIntegrator::flowExactToRoundingAtEveryScale() {
+    // The Taylor series stops as soon as its remainder is below rounding,
+    // so a short flow takes few terms: at every scale from 1 ns to 0.3 s
+    // (|A t| from 3e-9 to 0.9, with and without a doubling) the flow of a
+    // rotation generator and of a diagonal A equals their closed forms to a
+    // few units of rounding (a term too few would show as an error of
+    // |A t|^K / K!, far above these limits for any t here).
+    Eigen::Matrix2d R;
+    R << 0.0, -3.0, 3.0, 0.0;
+    Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
+    D(0, 0) = -2.5;
+    D(1, 1) = -0.4;
+    double worstPhi = 0.0, worstPsi = 0.0, worstOmega = 0.0;
+    for (int k = 0; k <= 160; ++k) {
+        const double t = 1e-9 * std::pow(3e8, k / 160.0);  // s
+        const LinearFlow f = linearFlow(R, t);
+        // Rotation by 3t and its integral; 1 - cos written as 2 sin^2 (no cancellation).
+        const double c = std::cos(3 * t), s = std::sin(3 * t), oneMinusCos = 2 * std::pow(std::sin(1.5 * t), 2);
+        Eigen::Matrix2d rot, rotIntegral;
+        rot << c, -s, s, c;
+        rotIntegral << s / 3, -oneMinusCos / 3, oneMinusCos / 3, s / 3;
+        worstPhi = std::max(worstPhi, (f.Phi - rot).cwiseAbs().maxCoeff());
+        worstPsi = std::max(worstPsi, (f.Psi - rotIntegral).cwiseAbs().maxCoeff() / t);
+        const LinearFlow g = linearFlow(D, t);
+        for (int i = 0; i < 2; ++i) {
+            const double x = D(i, i) * t;
+            double tail = 0.0, term = 0.5;  // (e^x - 1 - x) / x^2 = sum x^j / (j + 2)!
+            for (int j = 0; j < 40; ++j, term *= x / (j + 2)) tail += term;
+            worstPhi = std::max(worstPhi, test::relativeError(g.Phi(i, i), std::exp(x)));
+            worstPsi = std::max(worstPsi, test::relativeError(g.Psi(i, i), std::expm1(x) / D(i, i)));
+            worstOmega = std::max(worstOmega, test::relativeError(g.Omega(i, i), t * t * tail));
+        }
+        QCOMPARE(g.Phi(0, 1), 0.0);
+        QCOMPARE(g.Omega(1, 0), 0.0);
+    }
+    QVERIFY2(worstPhi < 1e-15, qPrintable(QString("Phi: %1").arg(worstPhi)));
+    QVERIFY2(worstPsi < 1e-15, qPrintable(QString("Psi: %1").arg(worstPsi)));
+    QVERIFY2(worstOmega < 1e-15, qPrintable(QString("Omega: %1").arg(worstOmega)));
+}
+
+void TestExactIntegrator::tableCacheGivesTheTablesItWouldBuild() {
+    // Every table the cache hands out is, bit for bit, the one
+    // makeExactStepTable builds for its key: for two robot dynamics in turn,
+    // over more distinct keys than the cache keeps (so that it fills and
+    // starts again), with keys asked for again at random, for a robot whose
+    // model is replaced, and for a NaN step length.
+    const RobotModel models[] = {makeRobotModel(RobotParams{}), makeRobotModel(test::asymmetricParams())};
+    auto same = [](const ExactStepTable& a, const ExactStepTable& b) {
+        if (!(a.h == b.h || (std::isnan(a.h) && std::isnan(b.h))) || a.panels != b.panels ||
+            a.kinds.size() != b.kinds.size())
+            return false;
+        for (std::size_t k = 0; k < a.kinds.size(); ++k) {
+            const ExactPanel &p = a.kinds[k], &q = b.kinds[k];
+            if (p.length != q.length || p.repeat != q.repeat || p.flow.Phi != q.flow.Phi || p.flow.Psi != q.flow.Psi ||
+                p.flow.Omega != q.flow.Omega || p.weights != q.weights)
+                return false;
+            for (int i = 0; i < kGaussNodes; ++i)
+                if (p.nodes[i].Phi != q.nodes[i].Phi || p.nodes[i].Psi != q.nodes[i].Psi ||
+                    p.nodes[i].Omega != q.nodes[i].Omega)
+                    return false;
+        }
+        return true;
+    };
+    ExactTableCache cache;
+    std::mt19937 rng(5);
+    std::vector<double> lengths;  // s: steps of dt, and instants of contacts
+    for (int k = 1; k <= 30; ++k) lengths.push_back(1e-3 * k);
+    std::uniform_real_distribution<double> instant(0.0, 1e-3);
+    for (int k = 0; k < 2500; ++k) lengths.push_back(instant(rng));
+    std::uniform_int_distribution<std::size_t> pick(0, lengths.size() - 1);
+    std::uniform_int_distribution<int> panels(0, 3);
+    for (int k = 0; k < 6000; ++k) {
+        const int robot = k % 3;  // robots 0 and 2 share the first dynamics
+        const RobotModel& m = models[robot == 1];
+        // Mostly steps of dt, as a run asks; the rest at random.
+        const double h = k % 4 == 0 ? lengths[pick(rng)] : lengths[k % 30];
+        const int p = panels(rng);
+        QVERIFY2(same(cache.table(robot, m, h, p), makeExactStepTable(m, h, p)),
+                 qPrintable(QString("call %1: robot %2, h = %3 s, %4 panels").arg(k).arg(robot).arg(h).arg(p)));
+    }
+    // Robot 0 now has the other dynamics: it gets their tables, not its old ones.
+    QVERIFY(same(cache.table(0, models[1], 1e-3, 1), makeExactStepTable(models[1], 1e-3, 1)));
+    QVERIFY(same(cache.table(0, models[0], 1e-3, 1), makeExactStepTable(models[0], 1e-3, 1)));
+    QVERIFY(std::isnan(cache.table(1, models[1], NAN, 1).h));  // (its flows are NaN: nothing to compare)
 }
 
 QTEST_GUILESS_MAIN(TestExactIntegrator)

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "vssim/geometry.h"
 
@@ -86,7 +88,26 @@ int exactPanelsFor(const RobotModel& model, const RobotState& state, const Volta
     return static_cast<int>(std::min<double>(kMaxPanels, std::ceil(need)));
 }
 
+namespace {
+
+// Whether a table is the one for (h, panels): the same bits of h (a NaN
+// length matches nothing, so it is never reused, as before any caching).
+bool tableIs(const ExactStepTable& t, double h, int panels) { return t.h == h && t.panels == panels; }
+
+std::size_t slotOf(double h, int panels, std::size_t slots) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &h, sizeof bits);
+    bits ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(panels)) * 0x9E3779B97F4A7C15ull;
+    bits ^= bits >> 29;
+    bits *= 0xBF58476D1CE4E5B9ull;  // a splitmix64 finaliser step: spreads the mantissa over the slot bits
+    bits ^= bits >> 32;
+    return static_cast<std::size_t>(bits) & (slots - 1);
+}
+
+}  // namespace
+
 const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model, double h, int panels) {
+    panels = std::max(1, panels);  // as makeExactStepTable reads it
     if (robot >= static_cast<int>(dynamicsOf_.size())) dynamicsOf_.resize(robot + 1, -1);
     int& index = dynamicsOf_[robot];
     // (Checked on every call, four compares, so that a robot whose model were
@@ -96,18 +117,27 @@ const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model,
         for (std::size_t d = 0; d < dynamics_.size() && index < 0; ++d)
             if (dynamics_[d].A == model.A) index = static_cast<int>(d);
         if (index < 0) {
-            dynamics_.push_back({model.A, {}});
+            Dynamics fresh;
+            fresh.A = model.A;
+            fresh.built.reserve(kMaxPerModel);
+            fresh.index.assign(kSlots, -1);
+            dynamics_.push_back(std::move(fresh));
             index = static_cast<int>(dynamics_.size()) - 1;
         }
     }
-    auto& mine = dynamics_[index].tables;
-    const std::pair<double, int> key(h, panels);
-    auto found = mine.find(key);
-    if (found == mine.end()) {
-        if (mine.size() >= kMaxPerModel) mine.clear();
-        found = mine.emplace(key, makeExactStepTable(model, h, panels)).first;
+    Dynamics& mine = dynamics_[index];
+    if (mine.last >= 0 && tableIs(mine.built[mine.last], h, panels)) return mine.built[mine.last];
+    std::size_t slot = slotOf(h, panels, kSlots);
+    for (; mine.index[slot] >= 0; slot = (slot + 1) & (kSlots - 1))  // linear probing; never full (kSlots > kMaxPerModel)
+        if (tableIs(mine.built[mine.index[slot]], h, panels)) return mine.built[mine.last = mine.index[slot]];
+    if (mine.built.size() >= kMaxPerModel) {
+        mine.built.clear();
+        std::fill(mine.index.begin(), mine.index.end(), -1);
+        slot = slotOf(h, panels, kSlots);
     }
-    return found->second;
+    mine.built.push_back(makeExactStepTable(model, h, panels));
+    mine.index[slot] = mine.last = static_cast<int>(mine.built.size()) - 1;
+    return mine.built.back();
 }
 
 void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, RobotState& state, const Voltages& e) {

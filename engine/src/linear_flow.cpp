@@ -10,6 +10,23 @@ namespace {
 constexpr double kScaledNorm = 0.5;
 constexpr int kTaylorTerms = 20;
 constexpr int kMaxDoublings = 200;
+// Fewer terms suffice for a smaller |A t| (a step of a millisecond is about
+// 0.015 for a default robot): the series stops once the remainder is below
+// this, relative to the leading term I (2^-60, under a double's rounding).
+constexpr double kTaylorRemainder = 8.7e-19;
+
+// The fewest terms K whose remainder, at most 2 x^(K+1) / (K+1)! for
+// x = |A tau| <= 1/2 (the tail is a geometric series of ratio <= 1/(K+2)),
+// is below kTaylorRemainder, for Phi; Psi's and Omega's terms are the same
+// over (k+1) and (k+1)(k+2), smaller still.
+int taylorTermsFor(double x) {
+    double next = x;  // x^(k+1) / (k+1)! for k = 0
+    for (int k = 1; k < kTaylorTerms; ++k) {
+        next *= x / static_cast<double>(k + 1);
+        if (2.0 * next <= kTaylorRemainder) return k;
+    }
+    return kTaylorTerms;  // also for NaN
+}
 }  // namespace
 
 LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
@@ -24,7 +41,7 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
     const Eigen::Matrix2d X = A * tau;
     const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
     Eigen::Matrix2d phi = I, psi = I, omega = I;
-    for (int k = kTaylorTerms; k >= 1; --k) {
+    for (int k = taylorTermsFor(std::ldexp(norm, -doublings)); k >= 1; --k) {
         phi = I + X * phi / static_cast<double>(k);
         psi = I + X * psi / static_cast<double>(k + 1);
         omega = I + X * omega / static_cast<double>(k + 2);

@@ -15,7 +15,6 @@
 #pragma once
 
 #include <array>
-#include <map>
 #include <utility>
 #include <vector>
 
@@ -65,16 +64,25 @@ int exactPanelsFor(const RobotModel& model, const RobotState& state, const Volta
 // matrix A (makeExactStepTable), so robots of bit-identical A (a team of
 // the same robot: every robot of a default scene) share theirs. A cache
 // only: the results are the same whether a table is reused or rebuilt.
+// A lookup is a hash probe (a step of any length, such as the instant of a
+// contact, gets its own key), after a check of the key asked for last, which
+// is what the robots of one step ask for in turn.
 class ExactTableCache {
 public:
+    // The table stays valid until the next call.
     const ExactStepTable& table(int robot, const RobotModel& model, double h, int panels);
 
 private:
-    // A scene of many step lengths must not grow it forever (a table is about 1 to 3 kB).
+    // A scene of many step lengths must not grow it forever (a table is
+    // about 1 to 3 kB): when full, a model's tables are dropped and rebuilt
+    // as they are asked for again.
     static constexpr std::size_t kMaxPerModel = 1024;
+    static constexpr std::size_t kSlots = 4 * kMaxPerModel;  // a power of two: probes stay short
     struct Dynamics {
-        Eigen::Matrix2d A;  // the model's velocity matrix, the tables' only input besides the key
-        std::map<std::pair<double, int>, ExactStepTable> tables;
+        Eigen::Matrix2d A;                  // the model's velocity matrix, the tables' only input besides the key
+        std::vector<ExactStepTable> built;  // at most kMaxPerModel (reserved: never moves)
+        std::vector<int> index;             // kSlots entries: an index into built, or -1
+        int last = -1;                      // the index asked for last
     };
     std::vector<int> dynamicsOf_;     // robot -> index into dynamics_, -1 before its first table
     std::vector<Dynamics> dynamics_;  // distinct A matrices, in order of first use
