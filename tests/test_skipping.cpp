@@ -230,34 +230,68 @@ void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
     // at their instant, whose search stops anywhere within kTouchDistance of
     // touching: a rounding difference can move that stop by one iteration and
     // the contact's instant by up to a microsecond (seen: 2.5e-9 m after 0.3 s).
+    //
+    // Where a call ends changes how the frozen bodies' motion is cut into
+    // exact steps, so the states differ by rounding, and some of these
+    // crowds are chaotic at that level: a robot moved by 1e-15 m at the start
+    // (seed 6: robot 0) ends 7.7 mm away after 0.3 s, because a contact is
+    // then answered at its instant instead of as a resting one. Such a scene
+    // cannot tell a dependence on the cuts from chaos. So with contacts at
+    // their instant the crowds are first nudged by a few units of rounding
+    // (each robot in turn, 1e-15 m along x), and those whose outcome moves
+    // by more than the tolerance are replaced by the next seed; at least 12
+    // of the first 18 seeds must be steady, and one of them must not be.
     int impacts = 0;
+    auto crowdScene = [](std::uint32_t seed, bool atImpact) {
+        Scene scene = crowd(100 + seed, 8, 0.3);
+        addRandomCommands(scene, seed, 0.3, 0.03);
+        scene.ball.vx = 6.0;
+        scene.ball.vy = -4.0;
+        scene.simulation.integrator = Integrator::Exact;
+        scene.simulation.dt = 0.002;
+        scene.simulation.time_of_impact = atImpact;
+        return scene;
+    };
     for (const bool atImpact : {false, true}) {
-        for (std::uint32_t seed = 1; seed <= 12; ++seed) {
-            Scene scene = crowd(100 + seed, 8, 0.3);
-            addRandomCommands(scene, seed, 0.3, 0.03);
-            scene.ball.vx = 6.0;
-            scene.ball.vy = -4.0;
-            scene.simulation.integrator = Integrator::Exact;
-            scene.simulation.dt = 0.002;
-            scene.simulation.time_of_impact = atImpact;
+        const double tolerance = atImpact ? 1e-7 : 1e-9;  // m
+        int steady = 0, chaotic = 0;
+        for (std::uint32_t seed = 1; steady < 12 && seed <= 18; ++seed) {
+            const Scene scene = crowdScene(seed, atImpact);
             Simulation reference(scene);
-            if (atImpact)
+            if (atImpact) {
                 impacts += static_cast<int>(reference.advanceTo(150).impacts);
-            else
+                bool moves = false;
+                for (std::size_t i = 0; i < scene.robots.size() && !moves; ++i) {
+                    Scene nudged = scene;
+                    nudged.robots[i].initial.x += 1e-15;
+                    Simulation other(nudged);
+                    other.advanceTo(150);
+                    moves = maxStateDifference(other.state(), reference.state()) > tolerance;
+                }
+                if (moves) {
+                    ++chaotic;
+                    continue;
+                }
+            } else {
                 while (reference.state().step < 150) reference.step();
+            }
+            ++steady;
             for (const std::int64_t chunk : {std::int64_t(1), std::int64_t(4), std::int64_t(37), std::int64_t(150)}) {
                 Simulation sim(scene);
                 for (std::int64_t target = chunk; sim.state().step < 150;
                      target = std::min<std::int64_t>(150, target + chunk))
                     sim.advanceTo(target);
                 const double diff = maxStateDifference(sim.state(), reference.state());
-                QVERIFY2(diff < (atImpact ? 1e-7 : 1e-9), qPrintable(QString("seed %1, chunks of %2, %3: differs by %4 m")
-                                                     .arg(seed)
-                                                     .arg(chunk)
-                                                     .arg(atImpact ? "contacts at their instant" : "on the grid")
-                                                     .arg(diff)));
+                QVERIFY2(diff < tolerance, qPrintable(QString("seed %1, chunks of %2, %3: differs by %4 m")
+                                                          .arg(seed)
+                                                          .arg(chunk)
+                                                          .arg(atImpact ? "contacts at their instant" : "on the grid")
+                                                          .arg(diff)));
             }
         }
+        qInfo("%s: %d steady crowds, %d chaotic at the rounding level", atImpact ? "at their instant" : "on the grid", steady, chaotic);
+        QCOMPARE(steady, 12);
+        if (atImpact) QVERIFY2(chaotic >= 1, "no crowd chaotic at the rounding level: the nudge cannot see chaos");
     }
     QVERIFY(impacts > 10);
 }

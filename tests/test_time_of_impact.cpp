@@ -274,6 +274,7 @@ void TestTimeOfImpact::firstContactAgainstBruteForce_data() {
     QTest::newRow("robot and ball") << 1;
     QTest::newRow("robot and wall") << 2;
     QTest::newRow("ball and wall") << 3;
+    QTest::newRow("crowd") << 4;
 }
 
 void TestTimeOfImpact::firstContactAgainstBruteForce() {
@@ -288,11 +289,12 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
     const double sample = 1e-5;
     const int samples = 3000;  // 30 ms, the voltages' period
     int contacts = 0, grazes = 0, trials = 0;
-    for (; trials < 500; ++trials) {
+    std::int64_t freezes = 0;
+    for (; trials < (kind == 4 ? 1000 : 500); ++trials) {
         std::vector<RobotState> robots;
         BallState ball{1.3, 1.3, 0.0, 0.0};  // far away unless used
         const double half = kind == 2 ? 0.08 : 0.1;  // the walls' cases: a small field
-        const double fieldSide = kind >= 2 ? 2.0 * half : 3.0;
+        const double fieldSide = kind == 4 ? 0.6 : kind >= 2 ? 2.0 * half : 3.0;
         if (kind == 0) {
             robots = {randomPose(rng, 0.0), randomPose(rng, 0.0)};
             const double angle = uniform(rng, -M_PI, M_PI), distance = uniform(rng, 0.076, 0.11);
@@ -309,9 +311,25 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
         } else if (kind == 2) {
             robots = {randomPose(rng, half - 0.054)};
             ball = {-half + 0.022, -half + 0.022, 0.0, 0.0};  // at rest in a corner
-        } else {
+        } else if (kind == 3) {
             ball = {uniform(rng, -half + 0.025, half - 0.025), uniform(rng, -half + 0.025, half - 0.025),
                     uniform(rng, -2.0, 2.0), uniform(rng, -2.0, 2.0)};
+        } else {
+            // Five robots and the ball in a 0.6 m box: many pairs and walls,
+            // some near and some not, so that bodies freeze within the
+            // stretch once none of their gaps can close before it ends.
+            // Centres at least 8 cm apart: some pairs touch within the 30 ms, most do not.
+            while (robots.size() < 5) {
+                const RobotState r = randomPose(rng, 0.25);
+                bool spaced = true;
+                for (const RobotState& other : robots) {
+                    const double d = std::hypot(r.x - other.x, r.y - other.y);
+                    spaced = spaced && d > 0.08;
+                }
+                if (spaced) robots.push_back(r);
+            }
+            ball = {uniform(rng, -0.27, 0.27), uniform(rng, -0.27, 0.27), uniform(rng, -1.0, 1.0),
+                    uniform(rng, -1.0, 1.0)};
         }
         std::vector<Voltages> e;
         for (RobotState& r : robots) {
@@ -327,6 +345,7 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
         for (std::size_t i = 0; i < robots.size(); ++i) s.commands.push_back({0.0, int(i), e[i]});
         Simulation sim(s);
         const AdvanceReport r = sim.advanceTo(samples * sample / s.simulation.dt);
+        freezes += r.freezes;
         const FreeMotion motion(s);
         const double brute = bruteForceFirstContact(motion, e, sample, samples);
         if (!std::isnan(r.firstImpact)) {
@@ -354,8 +373,10 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
         QVERIFY2(r.firstImpact > brute - sample - 1e-4,
                  qPrintable(QString("trial %1: %2 s against %3 s").arg(trials).arg(r.firstImpact).arg(brute)));
     }
-    qInfo("%d contacts in %d trials (%d grazes between samples)", contacts, trials, grazes);
+    qInfo("%d contacts in %d trials (%d grazes between samples), %lld bodies frozen within the stretch", contacts,
+          trials, grazes, static_cast<long long>(freezes));
     QVERIFY2(contacts > 100, qPrintable(QString("only %1 contacts in %2 trials").arg(contacts).arg(trials)));
+    if (kind == 4) QVERIFY2(freezes > 100, qPrintable(QString("only %1 bodies frozen within the stretch").arg(freezes)));
 }
 
 void TestTimeOfImpact::headOn() {

@@ -86,16 +86,143 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
     return true;
 }
 
-void Simulation::frozenSpeeds(const FrozenStart& start, double elapsed) {
+void Simulation::frozenSpeeds(const FrozenStart& start, std::int64_t done, StepOptions& options) {
     const std::size_t n = state_.robots.size();
+    const double dt = model_.settings.dt;
     frozenSpeed_.assign(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
         if (!start.frozen[i]) continue;
+        const double elapsed = static_cast<double>(done - start.since[i]) * dt;  // s since it froze
         RobotState now = start.robots[i];
         const Eigen::Vector2d u = velocityAfter(model_.robots[i], now, state_.voltages[i], elapsed);
         now.v = u(0);
         now.omega = u(1);
         frozenSpeed_[i] = pointSpeedBound(model_.robots[i], now, state_.voltages[i]);
+    }
+    const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s
+    const double ballElapsed = static_cast<double>(done - start.since[n]) * dt;
+    options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * ballElapsed);
+}
+
+void Simulation::sortFrozen(FrozenStart& start) const {
+    const std::size_t n = state_.robots.size();
+    start.byX.clear();
+    start.widest = 0.0;
+    for (std::size_t i = 0; i <= n; ++i) {
+        if (!start.frozen[i]) continue;
+        start.byX.push_back(static_cast<int>(i));
+        const double reach = i < n ? boundingRadius(model_.sides[i]) : model_.ball.radius;
+        start.widest = std::max(start.widest, reach + start.travel[i]);
+    }
+    std::sort(start.byX.begin(), start.byX.end(), [&start](int a, int b) {
+        return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
+    });
+}
+
+int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::int64_t stretch,
+                                     StepOptions& options) {
+    const std::size_t n = state_.robots.size();
+    const double dt = model_.settings.dt;
+    const double remaining = static_cast<double>(stretch - done) * dt;  // s
+    auto reach = [this, n](std::size_t b) { return b < n ? boundingRadius(model_.sides[b]) : model_.ball.radius; };
+    auto centre = [this, n](std::size_t b) {
+        return b < n ? Eigen::Vector2d(state_.robots[b].x, state_.robots[b].y)
+                     : Eigen::Vector2d(state_.ball.x, state_.ball.y);
+    };
+    auto speedNow = [this, n](std::size_t b) {
+        return b < n ? pointSpeedBound(model_.robots[b], state_.robots[b], state_.voltages[b])
+                     : std::hypot(state_.ball.vx, state_.ball.vy);
+    };
+    auto travel = [this, n, remaining](std::size_t b) {
+        return b < n ? robotTravelForIntegrator(model_, state_, b, remaining)
+                     : ballTravelForIntegrator(model_, state_, remaining);
+    };
+    bool candidates = false;
+    for (std::size_t b = 0; b <= n && !candidates; ++b) candidates = !start.frozen[b] && !constrained_[b];
+    if (!candidates) return 0;
+    // Each stepping body's reach plus travel (with the margin), once, and
+    // the stepping bodies by x: a candidate looks only at those within the
+    // widest such reach along x (a thousand robots would otherwise cost a
+    // million pairs a round).
+    stepReach_.assign(n + 1, 0.0);
+    steppingByX_.clear();
+    double widest = 0.0;  // m
+    for (std::size_t j = 0; j <= n; ++j) {
+        if (start.frozen[j]) continue;
+        if (std::isnan(centre(j).x())) return 0;  // (nothing to sort by; such a world is not planned on)
+        stepReach_[j] = reach(j) + travel(j) + 2.0 * speedNow(j) * dt;
+        widest = std::max(widest, stepReach_[j]);
+        steppingByX_.push_back(static_cast<int>(j));
+    }
+    std::sort(steppingByX_.begin(), steppingByX_.end(), [&centre](int a, int b) {
+        return centre(a).x() < centre(b).x() || (centre(a).x() == centre(b).x() && a < b);
+    });
+    int frozen = 0;
+    for (std::size_t b = 0; b <= n; ++b) {
+        if (start.frozen[b] || constrained_[b]) continue;
+        // The discs of frozenStillSafe, with its margin of a step: a body
+        // within reach of a stepping one stays stepping (a contact of that
+        // one would undo the step and plan again with everybody).
+        const double bTravel = travel(b);
+        const Eigen::Vector2d c = centre(b);
+        const double window = reach(b) + bTravel + widest;  // m
+        bool clear = std::isfinite(bTravel) && std::isfinite(window) && !std::isnan(c.x());
+        auto k = std::lower_bound(steppingByX_.begin(), steppingByX_.end(), c.x() - window,
+                                  [&centre](int j, double x) { return centre(j).x() < x; });
+        for (; clear && k != steppingByX_.end() && centre(*k).x() <= c.x() + window; ++k) {
+            const std::size_t j = static_cast<std::size_t>(*k);
+            if (j == b || start.frozen[j]) continue;  // (frozen: earlier in this pass)
+            clear = (c - centre(j)).norm() - reach(b) > bTravel + stepReach_[j];
+        }
+        if (!clear) continue;
+        start.frozen[b] = 1;
+        start.since[b] = done;
+        start.x[b] = centre(b).x();
+        start.y[b] = centre(b).y();
+        start.travel[b] = bTravel;
+        start.fastest = std::max(start.fastest, speedNow(b));
+        if (b < n) {
+            start.robots[b] = state_.robots[b];
+            frozenRobots_[b] = 1;
+            steppingRobots_[b] = 0;
+        } else {
+            start.ball = state_.ball;
+            options.freeBall = true;
+        }
+        ++frozen;
+    }
+    if (frozen == 0) return 0;
+    sortFrozen(start);
+    // Their gaps are no longer searched (impactStep reads the stepping bodies' starts only).
+    gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
+                               [&start, n](const BodyGap& g) {
+                                   for (const BodyRef& body : {g.a, g.b}) {
+                                       if (body.kind == BodyKind::Robot && start.frozen[body.index]) return true;
+                                       if (body.kind == BodyKind::Ball && start.frozen[n]) return true;
+                                   }
+                                   return false;
+                               }),
+                gaps_.end());
+    return frozen;
+}
+
+void Simulation::catchUpFrozen(const FrozenStart& start, std::int64_t done, bool ballFrozen) {
+    const std::size_t n = state_.robots.size();
+    const double dt = model_.settings.dt;
+    // Those frozen at the stretch's start first (all of them, as ever, even
+    // for no time), then those of each later step in turn.
+    std::int64_t since = 0;
+    for (;;) {
+        catchUp_.assign(n, 0);
+        for (std::size_t i = 0; i < n; ++i) catchUp_[i] = start.frozen[i] && start.since[i] == since;
+        const bool ball = ballFrozen && start.since[n] == since;
+        if (since == 0 || done > since) advanceBodies(static_cast<double>(done - since) * dt, &catchUp_, ball);
+        // The next later step at which something froze.
+        std::int64_t next = done;
+        for (std::size_t b = 0; b <= n; ++b)
+            if (start.frozen[b] && start.since[b] > since && start.since[b] < next) next = start.since[b];
+        if (next >= done) return;
+        since = next;
     }
 }
 
@@ -147,11 +274,16 @@ std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
     const double dt = model_.settings.dt;
     findBodyGaps(model_, state_, steppingRobots_, ballMoving, static_cast<double>(remaining) * dt, gaps_,
                  gapScratch_);
+    const std::size_t n = state_.robots.size();
+    constrained_.assign(n + 1, 0);
     std::int64_t steps = remaining;
     for (const BodyGap& g : gaps_) {
         if (!(g.gap > kContactSkin)) return -1;  // touching now (or NaN)
         // Conservative advancement on the grid: no contact within gap / closing.
         const double free = g.gap / (g.closing * dt);  // steps; +inf when nothing closes
+        if (!(free >= static_cast<double>(remaining)))
+            for (const BodyRef& body : {g.a, g.b})
+                if (body.kind != BodyKind::Wall) constrained_[body.kind == BodyKind::Robot ? body.index : n] = 1;
         if (!(free >= static_cast<double>(steps))) steps = free >= 0.0 ? static_cast<std::int64_t>(free) : 0;
     }
     return steps;
@@ -354,6 +486,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         FrozenStart& start = frozenStart_;
         start.frozen.assign(free_.robots.begin(), free_.robots.end());
         start.frozen.push_back(free_.ball);
+        start.since.assign(n + 1, 0);
         start.x.resize(n + 1);
         start.y.resize(n + 1);
         start.travel.assign(free_.robotTravel.begin(), free_.robotTravel.end());
@@ -363,17 +496,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         start.y[n] = state_.ball.y;
         start.robots = state_.robots;
         start.ball = state_.ball;
-        start.byX.clear();
-        start.widest = 0.0;
-        for (std::size_t i = 0; i <= n; ++i) {
-            if (!start.frozen[i]) continue;
-            start.byX.push_back(static_cast<int>(i));
-            const double reach = i < n ? boundingRadius(model_.sides[i]) : model_.ball.radius;
-            start.widest = std::max(start.widest, reach + start.travel[i]);
-        }
-        std::sort(start.byX.begin(), start.byX.end(), [&start](int a, int b) {
-            return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
-        });
+        sortFrozen(start);
         frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
         StepOptions options;
         options.freeRobots = &frozenRobots_;
@@ -382,20 +505,18 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         options.tables = tables();
         options.broadPhase = &broadPhase_;
         options.frozenRobotSpeed = &frozenSpeed_;
-        const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s
         // A frozen body's speed bound only falls along its free trajectory
-        // (each mode's share moves towards its end), so when the bounds at the
-        // start of the stretch cannot ask for sub-steps, none later can, and
+        // (each mode's share moves towards its end), so when the bounds at
+        // the time they froze cannot ask for sub-steps, none later can, and
         // the frozen bodies' current speeds are not needed.
-        double smallest = model_.ball.radius,
-               frozenFastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
+        double smallest = model_.ball.radius;
+        start.fastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             smallest = std::min(smallest, 0.5 * model_.sides[i]);
             if (start.frozen[i])
-                frozenFastest =
-                    std::max(frozenFastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
+                start.fastest =
+                    std::max(start.fastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
         }
-        const bool frozenMayDecideSubsteps = !(frozenFastest * dt <= kMaxTravelFraction * smallest);
         frozenSpeed_.assign(n, 0.0);
         options.frozenBallSpeed = 0.0;
         steppingRobots_.resize(n);
@@ -405,17 +526,21 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         while (done < stretch && stillSafe) {
             // A step that may sub-step needs the frozen bodies' speeds now.
             const auto prepareStep = [&] {
-                if (!(skip && frozenMayDecideSubsteps)) return;
-                const double elapsed = static_cast<double>(done) * dt;  // s into the stretch
-                frozenSpeeds(start, elapsed);
-                options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * elapsed);
+                if (!(skip && !(start.fastest * dt <= kMaxTravelFraction * smallest))) return;
+                frozenSpeeds(start, done, options);
             };
             if (impacts) {
                 // Conservative advancement (time_of_impact.h): as many whole
                 // steps as no gap can close in, in one step; when a gap may
                 // close within the next step, that step finds the instant.
+                const std::int64_t steps = gapSafeSteps(stretch - done, !options.freeBall);
+                // (Stepping bodies that can no longer touch anything before the
+                // stretch ends freeze, as if they had at its start.)
+                // Not in the step after a replan, in which nobody is frozen (it
+                // must make progress), nor for a last step (nothing to gain).
+                if (steps >= 0 && !nobodyFrozen && stretch - done >= 2)
+                    report.freezes += freezeUnconstrained(start, done, stretch, options);
                 const bool ballMoving = !options.freeBall;
-                const std::int64_t steps = gapSafeSteps(stretch - done, ballMoving);
                 if (steps >= 1) {
                     advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, ballMoving);
                     done += steps;
@@ -483,7 +608,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
             touching = r.contacts > 0;
         }
         if (skip) {  // the frozen bodies catch up: by the whole stretch, or to the present
-            advanceBodies(static_cast<double>(done) * dt, &frozenRobots_, options.freeBall);
+            catchUpFrozen(start, done, options.freeBall);
             ++report.longSteps;
         }
         finishStep(done);

@@ -42,6 +42,7 @@ struct AdvanceReport {
     std::int64_t replans = 0;    // stretches planned again: a contact brought a body near a free one
     std::int64_t contacts = 0;   // contacts found, summed over the steps
     std::int64_t impacts = 0;    // of those, answered at their time of impact (time_of_impact.h)
+    std::int64_t freezes = 0;    // bodies frozen within a stretch, not at its start (time_of_impact)
     double firstImpact = NAN;    // s of simulated time: the earliest of those instants (NaN: none)
 };
 
@@ -182,27 +183,46 @@ private:
         options.broadPhase = &broadPhase_;
         return options;
     }
-    // Bodies frozen at the start of a stretch: where, and how far they may go.
+    // Bodies frozen in a stretch: where, since when, and how far they may go.
+    // Most freeze at its start; with time_of_impact a stepping body whose
+    // gaps can no longer close before the stretch ends freezes then.
     struct FrozenStart {
-        std::vector<char> frozen;        // per body, robots then the ball
-        std::vector<RobotState> robots;  // the robots at the start of the stretch
-        BallState ball;
-        std::vector<double> x, y;    // m
-        std::vector<double> travel;  // m, over the whole stretch
+        std::vector<char> frozen;          // per body, robots then the ball
+        std::vector<std::int64_t> since;   // per body: steps into the stretch at which it froze
+        std::vector<RobotState> robots;    // each frozen robot when it froze
+        BallState ball;                    // the ball when it froze
+        std::vector<double> x, y;    // m, each frozen body's centre when it froze
+        std::vector<double> travel;  // m: the farthest it may go from there by the stretch's end
         std::vector<int> byX;        // the frozen bodies by increasing x
         double widest = 0.0;         // m: the largest reach plus travel of a frozen body
+        double fastest = 0.0;        // m/s: the largest speed bound of a frozen body when it froze
     };
+    // byX and widest again from frozen, x and travel.
+    void sortFrozen(FrozenStart& start) const;
     // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
     // `margin` (s) adds that many seconds at each stepping body's speed bound, twice.
     bool frozenStillSafe(const FrozenStart& start, double remaining, double margin = 0.0) const;
-    // The frozen bodies' speed bounds `elapsed` seconds into the stretch.
-    void frozenSpeeds(const FrozenStart& start, double elapsed);
+    // The frozen bodies' speed bounds `done` steps into the stretch
+    // (frozenSpeed_, and the ball's into options.frozenBallSpeed).
+    void frozenSpeeds(const FrozenStart& start, std::int64_t done, StepOptions& options);
+    // With time_of_impact, `done` steps into a stretch of `stretch`: the
+    // stepping bodies that gapSafeSteps found unconstrained (no gap of
+    // theirs can close before the stretch ends) freeze now, unless they are
+    // within reach of a stepping body by the discs of frozenStillSafe (a
+    // contact among the others would then undo the step at once).
+    // Returns how many froze.
+    int freezeUnconstrained(FrozenStart& start, std::int64_t done, std::int64_t stretch, StepOptions& options);
+    // The frozen bodies catch up to `done` steps into the stretch, each from
+    // the step at which it froze.
+    void catchUpFrozen(const FrozenStart& start, std::int64_t done, bool ballFrozen);
     // The longest power-of-two number of steps (<= remaining, >= 2) that the
     // stepping bodies can take with no contact possible, or 0.
     std::int64_t steppingFreeSteps(const FrozenStart& start, std::int64_t remaining);
     // With time_of_impact: how many whole steps (<= remaining) the stepping
     // bodies can take before any of their gaps (gaps_, found here) could
     // close; -1 when a gap is within kContactSkin now (bodies touching).
+    // Also marks in constrained_ the bodies with a gap that may close within
+    // `remaining` steps (not set when returning -1).
     std::int64_t gapSafeSteps(std::int64_t remaining, bool ballMoving);
     // One step of dt for the stepping bodies in which a gap of gaps_ may
     // close: Free (none did: the step is taken), Contact (the step was taken
@@ -240,6 +260,10 @@ private:
     WorldState beforeStep_;            // to undo a step that reached a frozen body
     bool forceOrdinaryStep_ = false;   // the next step (with time_of_impact: stretch) takes every body
     std::vector<BodyGap> gaps_;        // gapSafeSteps' gaps, used by impactStep
+    std::vector<char> constrained_;    // gapSafeSteps': per body, a gap of it may close before the stretch ends
+    std::vector<char> catchUp_;        // catchUpFrozen's robots of one freezing step
+    std::vector<double> stepReach_;    // freezeUnconstrained's reach + travel per stepping body, m
+    std::vector<int> steppingByX_;     // freezeUnconstrained's stepping bodies by x
     BodyGapScratch gapScratch_;
     std::vector<RobotPath> paths_;     // impactStep's robot paths over its step
     std::vector<char> pathReady_;
