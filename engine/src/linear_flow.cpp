@@ -1,5 +1,6 @@
 #include "vssim/linear_flow.h"
 
+#include <array>
 #include <cmath>
 
 namespace vssim {
@@ -19,6 +20,14 @@ constexpr double kTaylorRemainder = 8.7e-19;
 // x = |A tau| <= 1/2 (the tail is a geometric series of ratio <= 1/(K+2)),
 // is below kTaylorRemainder, for Phi; Psi's and Omega's terms are the same
 // over (k+1) and (k+1)(k+2), smaller still.
+// 1 / k! for k = 0 to kTaylorTerms + 2.
+constexpr std::array<double, kTaylorTerms + 3> kInverseFactorial = [] {
+    std::array<double, kTaylorTerms + 3> f{};
+    f[0] = 1.0;
+    for (int k = 1; k < kTaylorTerms + 3; ++k) f[k] = f[k - 1] / k;
+    return f;
+}();
+
 int taylorTermsFor(double x) {
     double next = x;  // x^(k+1) / (k+1)! for k = 0
     for (int k = 1; k < kTaylorTerms; ++k) {
@@ -36,21 +45,38 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
         doublings = std::min(kMaxDoublings, static_cast<int>(std::ceil(std::log2(norm / kScaledNorm))));
     const double tau = std::ldexp(t, -doublings);  // exact: a power-of-two scaling
 
-    // Phi = sum (A tau)^k / k!, Psi = tau sum (A tau)^k / (k+1)!,
-    // Omega = tau^2 sum (A tau)^k / (k+2)!; Horner from the highest term.
+    // Phi = sum X^k / k!, Psi = tau sum X^k / (k+1)!, Omega = tau^2 sum
+    // X^k / (k+2)! with X = A tau. By Cayley-Hamilton X^2 = tr(X) X - det(X) I,
+    // so every power is X^k = p_k I + q_k X with p_(k+1) = -det(X) q_k and
+    // q_(k+1) = p_k + tr(X) q_k, and each series is a I + b X with scalar
+    // sums a and b: a tenth of the work of summing 2x2 matrices. The sums
+    // run from the smallest term up. (Where X is close to a multiple of I,
+    // p_k and q_k X cancel by a factor of about k; the terms they make up
+    // fall as |X|^k / k!, so the flow stays within a few units of rounding.)
     const Eigen::Matrix2d X = A * tau;
-    const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
-    Eigen::Matrix2d phi = I, psi = I, omega = I;
-    for (int k = taylorTermsFor(std::ldexp(norm, -doublings)); k >= 1; --k) {
-        phi = I + X * phi / static_cast<double>(k);
-        psi = I + X * psi / static_cast<double>(k + 1);
-        omega = I + X * omega / static_cast<double>(k + 2);
+    const int terms = taylorTermsFor(std::ldexp(norm, -doublings));
+    const double trace = X.trace(), det = X(0, 0) * X(1, 1) - X(0, 1) * X(1, 0);
+    std::array<double, kTaylorTerms + 1> p{}, q{};
+    p[0] = 1.0;
+    for (int k = 0; k < terms; ++k) {
+        p[k + 1] = -det * q[k];
+        q[k + 1] = p[k] + trace * q[k];
     }
+    double phiI = 0.0, phiX = 0.0, psiI = 0.0, psiX = 0.0, omegaI = 0.0, omegaX = 0.0;
+    for (int k = terms; k >= 0; --k) {
+        phiI += p[k] * kInverseFactorial[k];
+        phiX += q[k] * kInverseFactorial[k];
+        psiI += p[k] * kInverseFactorial[k + 1];
+        psiX += q[k] * kInverseFactorial[k + 1];
+        omegaI += p[k] * kInverseFactorial[k + 2];
+        omegaX += q[k] * kInverseFactorial[k + 2];
+    }
+    const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
     LinearFlow f;
     f.t = tau;
-    f.Phi = phi;
-    f.Psi = tau * psi;
-    f.Omega = (0.5 * tau * tau) * omega;
+    f.Phi = phiI * I + phiX * X;
+    f.Psi = tau * (psiI * I + psiX * X);
+    f.Omega = (tau * tau) * (omegaI * I + omegaX * X);
     for (int d = 0; d < doublings; ++d) {
         const Eigen::Matrix2d onePlusPhi = I + f.Phi;
         f.Omega = onePlusPhi * f.Omega + f.t * f.Psi;

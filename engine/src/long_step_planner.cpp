@@ -152,12 +152,11 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         if (std::isnan(centre(j).x())) return 0;  // (nothing to sort by; such a world is not planned on)
         stepReach_[j] = reach(j) + travel(j) + 2.0 * speedNow(j) * dt;
         widest = std::max(widest, stepReach_[j]);
-        steppingByX_.push_back(static_cast<int>(j));
+        steppingByX_.emplace_back(centre(j).x(), static_cast<int>(j));
     }
-    std::sort(steppingByX_.begin(), steppingByX_.end(), [&centre](int a, int b) {
-        return centre(a).x() < centre(b).x() || (centre(a).x() == centre(b).x() && a < b);
-    });
+    std::sort(steppingByX_.begin(), steppingByX_.end());
     int frozen = 0;
+    newlyFrozen_.clear();
     for (std::size_t b = 0; b <= n; ++b) {
         if (start.frozen[b] || constrained_[b]) continue;
         // The discs of frozenStillSafe, with its margin of a step: a body
@@ -167,15 +166,15 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         const Eigen::Vector2d c = centre(b);
         const double window = reach(b) + bTravel + widest;  // m
         bool clear = std::isfinite(bTravel) && std::isfinite(window) && !std::isnan(c.x());
-        auto k = std::lower_bound(steppingByX_.begin(), steppingByX_.end(), c.x() - window,
-                                  [&centre](int j, double x) { return centre(j).x() < x; });
-        for (; clear && k != steppingByX_.end() && centre(*k).x() <= c.x() + window; ++k) {
-            const std::size_t j = static_cast<std::size_t>(*k);
+        auto k = std::lower_bound(steppingByX_.begin(), steppingByX_.end(), std::make_pair(c.x() - window, -1));
+        for (; clear && k != steppingByX_.end() && k->first <= c.x() + window; ++k) {
+            const std::size_t j = static_cast<std::size_t>(k->second);
             if (j == b || start.frozen[j]) continue;  // (frozen: earlier in this pass)
             clear = (c - centre(j)).norm() - reach(b) > bTravel + stepReach_[j];
         }
         if (!clear) continue;
         start.frozen[b] = 1;
+        newlyFrozen_.push_back(static_cast<int>(b));
         start.since[b] = done;
         start.x[b] = centre(b).x();
         start.y[b] = centre(b).y();
@@ -192,7 +191,16 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         ++frozen;
     }
     if (frozen == 0) return 0;
-    sortFrozen(start);
+    // Into the frozen bodies' order along x: the new ones sorted, then merged.
+    const auto byX = [&start](int a, int b) {
+        return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
+    };
+    std::sort(newlyFrozen_.begin(), newlyFrozen_.end(), byX);
+    const std::size_t old = start.byX.size();
+    start.byX.insert(start.byX.end(), newlyFrozen_.begin(), newlyFrozen_.end());
+    std::inplace_merge(start.byX.begin(), start.byX.begin() + static_cast<std::ptrdiff_t>(old), start.byX.end(), byX);
+    for (const int b : newlyFrozen_)
+        start.widest = std::max(start.widest, reach(static_cast<std::size_t>(b)) + start.travel[b]);
     // Their gaps are no longer searched (impactStep reads the stepping bodies' starts only).
     gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
                                [&start, n](const BodyGap& g) {
@@ -209,21 +217,21 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
 void Simulation::catchUpFrozen(const FrozenStart& start, std::int64_t done, bool ballFrozen) {
     const std::size_t n = state_.robots.size();
     const double dt = model_.settings.dt;
-    // Those frozen at the stretch's start first (all of them, as ever, even
-    // for no time), then those of each later step in turn.
-    std::int64_t since = 0;
-    for (;;) {
-        catchUp_.assign(n, 0);
-        for (std::size_t i = 0; i < n; ++i) catchUp_[i] = start.frozen[i] && start.since[i] == since;
-        const bool ball = ballFrozen && start.since[n] == since;
-        if (since == 0 || done > since) advanceBodies(static_cast<double>(done - since) * dt, &catchUp_, ball);
-        // The next later step at which something froze.
-        std::int64_t next = done;
-        for (std::size_t b = 0; b <= n; ++b)
-            if (start.frozen[b] && start.since[b] > since && start.since[b] < next) next = start.since[b];
-        if (next >= done) return;
-        since = next;
+    // Those frozen at the stretch's start together (as ever, even for no
+    // time), then each of those frozen later from its own step.
+    catchUp_.assign(n, 0);
+    bool later = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        catchUp_[i] = start.frozen[i] && start.since[i] == 0;
+        later = later || (start.frozen[i] && start.since[i] > 0);
     }
+    advanceBodies(static_cast<double>(done) * dt, &catchUp_, ballFrozen && start.since[n] == 0);
+    if (ballFrozen && start.since[n] > 0 && done > start.since[n])
+        advanceBody(n, static_cast<double>(done - start.since[n]) * dt);
+    if (!later) return;
+    for (std::size_t i = 0; i < n; ++i)
+        if (start.frozen[i] && start.since[i] > 0 && done > start.since[i])
+            advanceBody(i, static_cast<double>(done - start.since[i]) * dt);
 }
 
 std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_t remaining) {

@@ -289,6 +289,18 @@ void Simulation::advanceBodies(double h, const std::vector<char>* robots, bool b
     flushToRest(state_);
 }
 
+void Simulation::advanceBody(std::size_t body, double h) {
+    if (body < state_.robots.size()) {
+        integrateRobotBy(model_, state_, body, h, tables());
+        flushToRest(state_.robots[body].v);
+        flushToRest(state_.robots[body].omega);
+    } else if (!atRest(state_.ball)) {
+        integrateBallExact(model_.ball, state_.ball, h);
+        flushToRest(state_.ball.vx);
+        flushToRest(state_.ball.vy);
+    }
+}
+
 void Simulation::finishStep(std::int64_t steps) {
     state_.step += steps;
     state_.time = static_cast<double>(state_.step) * model_.settings.dt;

@@ -8,7 +8,8 @@
 // with Phi(t) = exp(A t), Psi(t) = int_0^t Phi, Omega(t) = int_0^t Psi.
 // The second line gives the heading exactly (theta' = omega).
 //
-// Computed by Taylor series of the three at once on a scaled time, then
+// Computed by Taylor series of the three at once on a scaled time (each a
+// I + b A by Cayley-Hamilton, so the sums are of scalars), then
 // doubling back (Phi(2t) = Phi^2, Psi(2t) = (I + Phi) Psi, Omega(2t) =
 // (I + Phi) Omega + t Psi). This needs neither A^-1 (A may be singular for a
 // frictionless robot) nor eigenvalues, has no cancellation for short times,

@@ -174,6 +174,8 @@ private:
     bool anyOffField() const;
     // Integrates the chosen bodies (all robots when `robots` is null) by h, no contacts.
     void advanceBodies(double h, const std::vector<char>* robots, bool ball);
+    // The same for one body: robot `body`, or the ball when it is the robot count.
+    void advanceBody(std::size_t body, double h);
     void finishStep(std::int64_t steps);
     StepReport ordinaryStep();  // one stepWorld of dt, and the clock moves on by dt
     ExactTableCache* tables() { return lentTables_ ? lentTables_ : &tables_; }
@@ -263,7 +265,8 @@ private:
     std::vector<char> constrained_;    // gapSafeSteps': per body, a gap of it may close before the stretch ends
     std::vector<char> catchUp_;        // catchUpFrozen's robots of one freezing step
     std::vector<double> stepReach_;    // freezeUnconstrained's reach + travel per stepping body, m
-    std::vector<int> steppingByX_;     // freezeUnconstrained's stepping bodies by x
+    std::vector<std::pair<double, int>> steppingByX_;  // freezeUnconstrained's stepping bodies: (x, body), sorted
+    std::vector<int> newlyFrozen_;     // freezeUnconstrained's bodies frozen in one call
     BodyGapScratch gapScratch_;
     std::vector<RobotPath> paths_;     // impactStep's robot paths over its step
     std::vector<char> pathReady_;
