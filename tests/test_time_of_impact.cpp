@@ -148,6 +148,7 @@ private slots:
     void cornerIntoAWall();
     void glancingPass();
     void ballIntoAWall();
+    void touchingPairSendsABodyAtAFrozenOne();
     void noContactMeansFixedStepResults();
     void gameAgreesWithFineFixedSteps();
     void rerunsAreBitIdentical();
@@ -490,6 +491,46 @@ double maxPositionDifference(const WorldState& a, const WorldState& b) {
     for (std::size_t i = 0; i < a.robots.size(); ++i)
         d = std::max(d, std::hypot(a.robots[i].x - b.robots[i].x, a.robots[i].y - b.robots[i].y));
     return d;
+}
+
+void TestTimeOfImpact::touchingPairSendsABodyAtAFrozenOne() {
+    // Robot a drives into the ball, which rests 1 um ahead of it (touching:
+    // the pair is answered before a step on the grid, not searched); robot b
+    // stands 1 mm beyond the ball's reach, so it is frozen for the stretch.
+    // The answer sends the ball at b: the planner must see that, take the
+    // step again with everybody (a replan) and bounce the ball off b, as
+    // fixed steps do, not let it run into b. (Found in review: a touching
+    // pair answered before a step that then found no contact went
+    // unchecked, and the ball ended 7 mm inside b.)
+    const double side = 0.075, radius = BallParams{}.radius;
+    const double ballX = 0.5 * side + radius + 1e-6;
+    const double bX = ballX + radius + std::hypot(0.5 * side, 0.5 * side) + 1e-3;
+    auto run = [&](bool atImpact, bool longSteps, AdvanceReport& r) {
+        RobotState a, b;
+        a.v = 0.5;
+        b.x = bX;
+        Scene s = scene({a, b}, BallState{ballX, 0.0, 0.0, 0.0});
+        s.simulation.time_of_impact = atImpact;
+        s.simulation.long_steps = longSteps;
+        s.commands.push_back({0.0, 0, Voltages{3.0, 3.0}});
+        Simulation sim(s);
+        r = sim.advanceTo(30);
+        return sim.state();
+    };
+    AdvanceReport planned, fixed;
+    const WorldState got = run(true, true, planned), want = run(false, false, fixed);
+    QVERIFY(planned.replans >= 1);
+    QCOMPARE(planned.contacts, fixed.contacts);  // a on the ball, the ball on b
+    // The ball bounced off b: it moves back, clear of b's back face.
+    QVERIFY2(got.ball.vx < 0.0 && got.ball.x + radius < got.robots[1].x - 0.5 * side,
+             qPrintable(QString("ball at %1 m, %2 m/s; b's back face at %3 m")
+                            .arg(got.ball.x)
+                            .arg(got.ball.vx)
+                            .arg(got.robots[1].x - 0.5 * side)));
+    // Where fixed steps put it, within what answering the contacts at their
+    // instant (up to a step earlier) moves things in 30 ms.
+    QVERIFY2(std::abs(got.ball.x - want.ball.x) < 2e-3 && std::abs(got.robots[1].x - want.robots[1].x) < 2e-3,
+             qPrintable(QString("ball %1 m against %2 m").arg(got.ball.x).arg(want.ball.x)));
 }
 
 void TestTimeOfImpact::noContactMeansFixedStepResults() {

@@ -94,6 +94,12 @@ namespace {
 // length matches nothing, so it is never reused, as before any caching).
 bool tableIs(const ExactStepTable& t, double h, int panels) { return t.h == h && t.panels == panels; }
 
+// Whether two velocity matrices are the same bits: a matrix with a NaN is
+// then the same as itself, so it gets one set of tables, not one per call.
+bool sameBits(const Eigen::Matrix2d& a, const Eigen::Matrix2d& b) {
+    return std::memcmp(a.data(), b.data(), 4 * sizeof(double)) == 0;
+}
+
 std::size_t slotOf(double h, int panels, std::size_t slots) {
     std::uint64_t bits;
     std::memcpy(&bits, &h, sizeof bits);
@@ -108,18 +114,18 @@ std::size_t slotOf(double h, int panels, std::size_t slots) {
 
 const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model, double h, int panels) {
     panels = std::max(1, panels);  // as makeExactStepTable reads it
+    if (h == 0.0) h = 0.0;         // -0 as +0: one key, one slot
     if (robot >= static_cast<int>(dynamicsOf_.size())) dynamicsOf_.resize(robot + 1, -1);
     int& index = dynamicsOf_[robot];
     // (Checked on every call, four compares, so that a robot whose model were
     // replaced could never be handed another model's tables.)
-    if (index < 0 || dynamics_[index].A != model.A) {
+    if (index < 0 || !sameBits(dynamics_[index].A, model.A)) {
         index = -1;
         for (std::size_t d = 0; d < dynamics_.size() && index < 0; ++d)
-            if (dynamics_[d].A == model.A) index = static_cast<int>(d);
+            if (sameBits(dynamics_[d].A, model.A)) index = static_cast<int>(d);
         if (index < 0) {
             Dynamics fresh;
             fresh.A = model.A;
-            fresh.built.reserve(kMaxPerModel);
             fresh.index.assign(kSlots, -1);
             dynamics_.push_back(std::move(fresh));
             index = static_cast<int>(dynamics_.size()) - 1;

@@ -13,13 +13,12 @@ constexpr int kTaylorTerms = 20;
 constexpr int kMaxDoublings = 200;
 // Fewer terms suffice for a smaller |A t| (a step of a millisecond is about
 // 0.015 for a default robot): the series stops once the remainder is below
-// this, relative to the leading term I (2^-60, under a double's rounding).
+// this, relative to its first-order term A t (2^-60, under a double's
+// rounding). Relative to A t, not to I: an entry that starts at first order
+// (an off-diagonal one, a coupling of the wheels) keeps its own relative
+// accuracy, down to entries a thousandth of |A|.
 constexpr double kTaylorRemainder = 8.7e-19;
 
-// The fewest terms K whose remainder, at most 2 x^(K+1) / (K+1)! for
-// x = |A tau| <= 1/2 (the tail is a geometric series of ratio <= 1/(K+2)),
-// is below kTaylorRemainder, for Phi; Psi's and Omega's terms are the same
-// over (k+1) and (k+1)(k+2), smaller still.
 // 1 / k! for k = 0 to kTaylorTerms + 2.
 constexpr std::array<double, kTaylorTerms + 3> kInverseFactorial = [] {
     std::array<double, kTaylorTerms + 3> f{};
@@ -28,11 +27,15 @@ constexpr std::array<double, kTaylorTerms + 3> kInverseFactorial = [] {
     return f;
 }();
 
+// The fewest terms K whose remainder, at most 2 x^(K+1) / (K+1)! for
+// x = |A tau| <= 1/2 (the tail is a geometric series of ratio <= 1/(K+2)),
+// is below kTaylorRemainder x, for Phi; Psi's and Omega's terms are the
+// same over (k+1) and (k+1)(k+2), smaller still.
 int taylorTermsFor(double x) {
     double next = x;  // x^(k+1) / (k+1)! for k = 0
     for (int k = 1; k < kTaylorTerms; ++k) {
         next *= x / static_cast<double>(k + 1);
-        if (2.0 * next <= kTaylorRemainder) return k;
+        if (2.0 * next <= kTaylorRemainder * x) return k;
     }
     return kTaylorTerms;  // also for NaN
 }

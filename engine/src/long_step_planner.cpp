@@ -401,7 +401,8 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     return ImpactStep::Contact;
 }
 
-void Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
+int Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
+    int answered = 0;
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
         if (g.gap > kContactSkin) continue;
@@ -410,8 +411,10 @@ void Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
             continue;
         ++report.contacts;
         ++report.impacts;
+        ++answered;
         if (!(report.firstImpact <= now)) report.firstImpact = now;
     }
+    return answered;
 }
 
 AdvanceReport Simulation::advanceTo(std::int64_t target) {
@@ -532,6 +535,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
         bool stillSafe = true, touching = false;
         while (done < stretch && stillSafe) {
+            int answered = 0;  // touching pairs answered before this step (their velocities changed)
             // A step that may sub-step needs the frozen bodies' speeds now.
             const auto prepareStep = [&] {
                 if (!(skip && !(start.fastest * dt <= kMaxTravelFraction * smallest))) return;
@@ -578,7 +582,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
                 }
                 // Touching now, or a pass the search could not settle: a step on
                 // the grid, after answering the touching pairs that approach.
-                if (steps < 0) answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
+                if (steps < 0) answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
             } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {
                 // The stepping bodies, too, may be free for a while (a robot
                 // nearing a wall, not yet at it): a long step of a power of two
@@ -603,7 +607,10 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
             // free bodies to the present and take the step again with
             // everybody. The margin covers what a body can move within the
             // step after a contact.
-            if (r.contacts > 0 && !frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+            // (So may the touching pairs answered before it, even when the
+            // step itself then finds no contact.)
+            if ((r.contacts > 0 || answered > 0) &&
+                !frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
                 state_ = beforeStep_;
                 stillSafe = false;
                 forceOrdinaryStep_ = true;

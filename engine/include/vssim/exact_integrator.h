@@ -80,7 +80,7 @@ private:
     static constexpr std::size_t kSlots = 4 * kMaxPerModel;  // a power of two: probes stay short
     struct Dynamics {
         Eigen::Matrix2d A;                  // the model's velocity matrix, the tables' only input besides the key
-        std::vector<ExactStepTable> built;  // at most kMaxPerModel (reserved: never moves)
+        std::vector<ExactStepTable> built;  // at most kMaxPerModel (may move when one is added)
         std::vector<int> index;             // kSlots entries: an index into built, or -1
         int last = -1;                      // the index asked for last
     };

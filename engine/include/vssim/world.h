@@ -233,8 +233,8 @@ private:
     // After Contact, restoreStepping() puts the step's start back.
     enum class ImpactStep { Free, Contact, Unresolved };
     // The pairs of gaps_ within kContactSkin that approach are answered now
-    // (`now`: simulated time, s, for the report).
-    void answerTouchingGaps(double now, AdvanceReport& report);
+    // (`now`: simulated time, s, for the report); returns how many.
+    int answerTouchingGaps(double now, AdvanceReport& report);
     // A body's pose in state_ (the ball's centre in x, y; a wall's is not used).
     RobotState poseNow(const BodyRef& body) const;
     // The contact of a gap's bodies in state_ when they are apart by at most
