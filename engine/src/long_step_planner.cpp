@@ -35,6 +35,25 @@ RobotState poseAmong(const BodyRef& body, const std::vector<RobotState>& robots,
 
 }  // namespace
 
+double Simulation::bodyReach(std::size_t b) const {
+    return b < state_.robots.size() ? boundingRadius(model_.sides[b]) : model_.ball.radius;
+}
+
+Eigen::Vector2d Simulation::bodyCentre(std::size_t b) const {
+    return b < state_.robots.size() ? Eigen::Vector2d(state_.robots[b].x, state_.robots[b].y)
+                                    : Eigen::Vector2d(state_.ball.x, state_.ball.y);
+}
+
+double Simulation::bodySpeed(std::size_t b) const {
+    return b < state_.robots.size() ? pointSpeedBound(model_.robots[b], state_.robots[b], state_.voltages[b])
+                                    : std::hypot(state_.ball.vx, state_.ball.vy);
+}
+
+double Simulation::bodyTravel(std::size_t b, double horizon) const {
+    return b < state_.robots.size() ? robotTravelForIntegrator(model_, state_, b, horizon)
+                                    : ballTravelForIntegrator(model_, state_, horizon);
+}
+
 std::int64_t Simulation::contactFreeSteps(std::int64_t wanted) const {
     // The largest k <= wanted for which every body is free for k steps
     // (freedom only shrinks as the horizon grows): a bisection.
@@ -60,19 +79,14 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
     // the remaining time. Both discs must stay apart.
     const std::size_t n = state_.robots.size();
     if (start.byX.empty()) return true;  // nobody frozen
-    auto reach = [this, n](std::size_t b) { return b < n ? boundingRadius(model_.sides[b]) : model_.ball.radius; };
     for (std::size_t j = 0; j <= n; ++j) {
         if (start.frozen[j]) continue;
-        const double pjX = j < n ? state_.robots[j].x : state_.ball.x;
-        const double pjY = j < n ? state_.robots[j].y : state_.ball.y;
-        const double speed = j < n ? pointSpeedBound(model_.robots[j], state_.robots[j], state_.voltages[j])
-                                   : std::hypot(state_.ball.vx, state_.ball.vy);
-        const double jTravel = (j < n ? robotTravelForIntegrator(model_, state_, j, remaining)
-                                      : ballTravelForIntegrator(model_, state_, remaining)) +
-                               2.0 * speed * margin;
+        const Eigen::Vector2d pj = bodyCentre(j);
+        const double pjX = pj.x(), pjY = pj.y();
+        const double jTravel = bodyTravel(j, remaining) + 2.0 * bodySpeed(j) * margin;
         // Only frozen bodies within the widest reach along x can be too close
         // (start.byX: the frozen bodies by their x; NaN fails below).
-        const double window = reach(j) + jTravel + start.widest;  // m
+        const double window = bodyReach(j) + jTravel + start.widest;  // m
         if (!(window < INFINITY) || std::isnan(pjX)) return false;
         auto k = std::lower_bound(start.byX.begin(), start.byX.end(), pjX - window,
                                   [&start](int i, double x) { return start.x[i] < x; });
@@ -80,7 +94,7 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
             const std::size_t i = static_cast<std::size_t>(*k);
             const double dx = pjX - start.x[i], dy = pjY - start.y[i];
             const double distance = std::sqrt(dx * dx + dy * dy);
-            if (!(distance - reach(i) - reach(j) > start.travel[i] + jTravel)) return false;
+            if (!(distance - bodyReach(i) - bodyReach(j) > start.travel[i] + jTravel)) return false;
         }
     }
     return true;
@@ -111,8 +125,7 @@ void Simulation::sortFrozen(FrozenStart& start) const {
     for (std::size_t i = 0; i <= n; ++i) {
         if (!start.frozen[i]) continue;
         start.byX.push_back(static_cast<int>(i));
-        const double reach = i < n ? boundingRadius(model_.sides[i]) : model_.ball.radius;
-        start.widest = std::max(start.widest, reach + start.travel[i]);
+        start.widest = std::max(start.widest, bodyReach(i) + start.travel[i]);
     }
     std::sort(start.byX.begin(), start.byX.end(), [&start](int a, int b) {
         return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
@@ -124,19 +137,6 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
     const std::size_t n = state_.robots.size();
     const double dt = model_.settings.dt;
     const double remaining = static_cast<double>(stretch - done) * dt;  // s
-    auto reach = [this, n](std::size_t b) { return b < n ? boundingRadius(model_.sides[b]) : model_.ball.radius; };
-    auto centre = [this, n](std::size_t b) {
-        return b < n ? Eigen::Vector2d(state_.robots[b].x, state_.robots[b].y)
-                     : Eigen::Vector2d(state_.ball.x, state_.ball.y);
-    };
-    auto speedNow = [this, n](std::size_t b) {
-        return b < n ? pointSpeedBound(model_.robots[b], state_.robots[b], state_.voltages[b])
-                     : std::hypot(state_.ball.vx, state_.ball.vy);
-    };
-    auto travel = [this, n, remaining](std::size_t b) {
-        return b < n ? robotTravelForIntegrator(model_, state_, b, remaining)
-                     : ballTravelForIntegrator(model_, state_, remaining);
-    };
     bool candidates = false;
     for (std::size_t b = 0; b <= n && !candidates; ++b) candidates = !start.frozen[b] && !constrained_[b];
     if (!candidates) return 0;
@@ -149,10 +149,10 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
     double widest = 0.0;  // m
     for (std::size_t j = 0; j <= n; ++j) {
         if (start.frozen[j]) continue;
-        if (std::isnan(centre(j).x())) return 0;  // (nothing to sort by; such a world is not planned on)
-        stepReach_[j] = reach(j) + travel(j) + 2.0 * speedNow(j) * dt;
+        if (std::isnan(bodyCentre(j).x())) return 0;  // (nothing to sort by; such a world is not planned on)
+        stepReach_[j] = bodyReach(j) + bodyTravel(j, remaining) + 2.0 * bodySpeed(j) * dt;
         widest = std::max(widest, stepReach_[j]);
-        steppingByX_.emplace_back(centre(j).x(), static_cast<int>(j));
+        steppingByX_.emplace_back(bodyCentre(j).x(), static_cast<int>(j));
     }
     std::sort(steppingByX_.begin(), steppingByX_.end());
     int frozen = 0;
@@ -162,24 +162,24 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         // The discs of frozenStillSafe, with its margin of a step: a body
         // within reach of a stepping one stays stepping (a contact of that
         // one would undo the step and plan again with everybody).
-        const double bTravel = travel(b);
-        const Eigen::Vector2d c = centre(b);
-        const double window = reach(b) + bTravel + widest;  // m
+        const double bTravel = bodyTravel(b, remaining);
+        const Eigen::Vector2d c = bodyCentre(b);
+        const double window = bodyReach(b) + bTravel + widest;  // m
         bool clear = std::isfinite(bTravel) && std::isfinite(window) && !std::isnan(c.x());
         auto k = std::lower_bound(steppingByX_.begin(), steppingByX_.end(), std::make_pair(c.x() - window, -1));
         for (; clear && k != steppingByX_.end() && k->first <= c.x() + window; ++k) {
             const std::size_t j = static_cast<std::size_t>(k->second);
             if (j == b || start.frozen[j]) continue;  // (frozen: earlier in this pass)
-            clear = (c - centre(j)).norm() - reach(b) > bTravel + stepReach_[j];
+            clear = (c - bodyCentre(j)).norm() - bodyReach(b) > bTravel + stepReach_[j];
         }
         if (!clear) continue;
         start.frozen[b] = 1;
         newlyFrozen_.push_back(static_cast<int>(b));
         start.since[b] = done;
-        start.x[b] = centre(b).x();
-        start.y[b] = centre(b).y();
+        start.x[b] = bodyCentre(b).x();
+        start.y[b] = bodyCentre(b).y();
         start.travel[b] = bTravel;
-        start.fastest = std::max(start.fastest, speedNow(b));
+        start.fastest = std::max(start.fastest, bodySpeed(b));
         if (b < n) {
             start.robots[b] = state_.robots[b];
             frozenRobots_[b] = 1;
@@ -200,7 +200,7 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
     start.byX.insert(start.byX.end(), newlyFrozen_.begin(), newlyFrozen_.end());
     std::inplace_merge(start.byX.begin(), start.byX.begin() + static_cast<std::ptrdiff_t>(old), start.byX.end(), byX);
     for (const int b : newlyFrozen_)
-        start.widest = std::max(start.widest, reach(static_cast<std::size_t>(b)) + start.travel[b]);
+        start.widest = std::max(start.widest, bodyReach(static_cast<std::size_t>(b)) + start.travel[b]);
     // Their gaps are no longer searched (impactStep reads the stepping bodies' starts only).
     gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
                                [&start, n](const BodyGap& g) {

@@ -201,6 +201,15 @@ private:
     };
     // byX and widest again from frozen, x and travel.
     void sortFrozen(FrozenStart& start) const;
+    // Body b of the planner's numbering (the robots, then the ball as body
+    // n, the robot count): the radius of the disc around its centre that
+    // holds it at any heading (m), that centre (m), the fastest any of its
+    // points moves now (m/s), and the farthest any of its points can go
+    // within `horizon` s under its voltages (m).
+    double bodyReach(std::size_t b) const;
+    Eigen::Vector2d bodyCentre(std::size_t b) const;
+    double bodySpeed(std::size_t b) const;
+    double bodyTravel(std::size_t b, double horizon) const;
     // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
     // `margin` (s) adds that many seconds at each stepping body's speed bound, twice.
     bool frozenStillSafe(const FrozenStart& start, double remaining, double margin = 0.0) const;
