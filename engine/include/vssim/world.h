@@ -102,7 +102,10 @@ public:
     // in, and a step in which one may close finds the instant it does; the
     // contact is answered there, and the rest of that step and the steps
     // after it are ordinary ones until the bodies no longer touch (a robot
-    // pushing on a wall stays on the grid). The states then agree with
+    // pushing on a wall stays on the grid). A moving body none of whose gaps
+    // can close before the stretch ends freezes where it is and catches up
+    // in one step at the stretch's end, like those free from its start
+    // (AdvanceReport::freezes). The states then agree with
     // step()'s to rounding until the first contact, which comes up to a step
     // earlier: at its instant, not at the end of its step.
     // Without it, long steps end on multiples of dt, so the contacts happen
