@@ -118,18 +118,18 @@ void Simulation::frozenSpeeds(const FrozenStart& start, std::int64_t done, StepO
     options.frozenBallSpeed = std::hypot(start.ball.vx, start.ball.vy) * std::exp(-ballDecay * ballElapsed);
 }
 
-void Simulation::sortFrozen(FrozenStart& start) const {
-    const std::size_t n = state_.robots.size();
-    start.byX.clear();
-    start.widest = 0.0;
-    for (std::size_t i = 0; i <= n; ++i) {
-        if (!start.frozen[i]) continue;
-        start.byX.push_back(static_cast<int>(i));
-        start.widest = std::max(start.widest, bodyReach(i) + start.travel[i]);
-    }
-    std::sort(start.byX.begin(), start.byX.end(), [&start](int a, int b) {
+void Simulation::addToFrozenOrder(FrozenStart& start, std::vector<int>& added) const {
+    const auto byX = [&start](int a, int b) {
         return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
-    });
+    };
+    std::sort(added.begin(), added.end(), byX);
+    const std::size_t old = start.byX.size();
+    start.byX.insert(start.byX.end(), added.begin(), added.end());
+    if (old > 0)  // (a merge with nothing still takes a buffer)
+        std::inplace_merge(start.byX.begin(), start.byX.begin() + static_cast<std::ptrdiff_t>(old), start.byX.end(),
+                           byX);
+    for (const int b : added)
+        start.widest = std::max(start.widest, bodyReach(static_cast<std::size_t>(b)) + start.travel[b]);
 }
 
 int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::int64_t stretch,
@@ -191,16 +191,7 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         ++frozen;
     }
     if (frozen == 0) return 0;
-    // Into the frozen bodies' order along x: the new ones sorted, then merged.
-    const auto byX = [&start](int a, int b) {
-        return start.x[a] < start.x[b] || (start.x[a] == start.x[b] && a < b);
-    };
-    std::sort(newlyFrozen_.begin(), newlyFrozen_.end(), byX);
-    const std::size_t old = start.byX.size();
-    start.byX.insert(start.byX.end(), newlyFrozen_.begin(), newlyFrozen_.end());
-    std::inplace_merge(start.byX.begin(), start.byX.begin() + static_cast<std::ptrdiff_t>(old), start.byX.end(), byX);
-    for (const int b : newlyFrozen_)
-        start.widest = std::max(start.widest, bodyReach(static_cast<std::size_t>(b)) + start.travel[b]);
+    addToFrozenOrder(start, newlyFrozen_);
     // Their gaps are no longer searched (impactStep reads the stepping bodies' starts only).
     gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
                                [&start, n](const BodyGap& g) {
@@ -220,15 +211,10 @@ void Simulation::catchUpFrozen(const FrozenStart& start, std::int64_t done, bool
     // Those frozen at the stretch's start together (as ever, even for no
     // time), then each of those frozen later from its own step.
     catchUp_.assign(n, 0);
-    bool later = false;
-    for (std::size_t i = 0; i < n; ++i) {
-        catchUp_[i] = start.frozen[i] && start.since[i] == 0;
-        later = later || (start.frozen[i] && start.since[i] > 0);
-    }
+    for (std::size_t i = 0; i < n; ++i) catchUp_[i] = start.frozen[i] && start.since[i] == 0;
     advanceBodies(static_cast<double>(done) * dt, &catchUp_, ballFrozen && start.since[n] == 0);
     if (ballFrozen && start.since[n] > 0 && done > start.since[n])
         advanceBody(n, static_cast<double>(done - start.since[n]) * dt);
-    if (!later) return;
     for (std::size_t i = 0; i < n; ++i)
         if (start.frozen[i] && start.since[i] > 0 && done > start.since[i])
             advanceBody(i, static_cast<double>(done - start.since[i]) * dt);
@@ -507,7 +493,12 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         start.y[n] = state_.ball.y;
         start.robots = state_.robots;
         start.ball = state_.ball;
-        sortFrozen(start);
+        start.byX.clear();
+        start.widest = 0.0;
+        newlyFrozen_.clear();
+        for (std::size_t i = 0; i <= n; ++i)
+            if (start.frozen[i]) newlyFrozen_.push_back(static_cast<int>(i));
+        addToFrozenOrder(start, newlyFrozen_);
         frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
         StepOptions options;
         options.freeRobots = &frozenRobots_;
@@ -521,12 +512,10 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         // the time they froze cannot ask for sub-steps, none later can, and
         // the frozen bodies' current speeds are not needed.
         double smallest = model_.ball.radius;
-        start.fastest = start.frozen[n] ? std::hypot(state_.ball.vx, state_.ball.vy) : 0.0;
+        start.fastest = start.frozen[n] ? bodySpeed(n) : 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             smallest = std::min(smallest, 0.5 * model_.sides[i]);
-            if (start.frozen[i])
-                start.fastest =
-                    std::max(start.fastest, pointSpeedBound(model_.robots[i], state_.robots[i], state_.voltages[i]));
+            if (start.frozen[i]) start.fastest = std::max(start.fastest, bodySpeed(i));
         }
         frozenSpeed_.assign(n, 0.0);
         options.frozenBallSpeed = 0.0;
@@ -538,7 +527,7 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
             int answered = 0;  // touching pairs answered before this step (their velocities changed)
             // A step that may sub-step needs the frozen bodies' speeds now.
             const auto prepareStep = [&] {
-                if (!(skip && !(start.fastest * dt <= kMaxTravelFraction * smallest))) return;
+                if (!skip || start.fastest * dt <= kMaxTravelFraction * smallest) return;
                 frozenSpeeds(start, done, options);
             };
             if (impacts) {

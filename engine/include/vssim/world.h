@@ -202,8 +202,10 @@ private:
         double widest = 0.0;         // m: the largest reach plus travel of a frozen body
         double fastest = 0.0;        // m/s: the largest speed bound of a frozen body when it froze
     };
-    // byX and widest again from frozen, x and travel.
-    void sortFrozen(FrozenStart& start) const;
+    // Adds the bodies `added` (already marked frozen, with x and travel set)
+    // to byX, keeping it sorted (the added ones sorted, then merged), and to
+    // widest. It sorts them in place.
+    void addToFrozenOrder(FrozenStart& start, std::vector<int>& added) const;
     // Body b of the planner's numbering (the robots, then the ball as body
     // n, the robot count): the radius of the disc around its centre that
     // holds it at any heading (m), that centre (m), the fastest any of its
@@ -278,7 +280,7 @@ private:
     std::vector<char> catchUp_;        // catchUpFrozen's robots of one freezing step
     std::vector<double> stepReach_;    // freezeUnconstrained's reach + travel per stepping body, m
     std::vector<std::pair<double, int>> steppingByX_;  // freezeUnconstrained's stepping bodies: (x, body), sorted
-    std::vector<int> newlyFrozen_;     // freezeUnconstrained's bodies frozen in one call
+    std::vector<int> newlyFrozen_;     // the bodies frozen in one go (a stretch's start, or freezeUnconstrained)
     BodyGapScratch gapScratch_;
     std::vector<RobotPath> paths_;     // impactStep's robot paths over its step
     std::vector<char> pathReady_;
