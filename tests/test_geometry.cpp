@@ -90,6 +90,7 @@ RobotState shifted(RobotState r, const Eigen::Vector2d& by) {
 class TestGeometry : public QObject {
     Q_OBJECT
 private slots:
+    void cosSinAgainstLongDouble();
     void robotVerticesMatchFormula_data();
     void robotVerticesMatchFormula();
     void closestPointOnSegment_data();
@@ -125,6 +126,49 @@ private slots:
 };
 
 // ---------------------------------------------------------------- vertices
+
+// The engine's own sine and cosine against the C library's long double
+// ones, in units in the last place of the exact value (an ulp of the
+// value, at least an ulp of 2^-60: the reduction's error is absolute): over
+// many decades of angles, next to every quarter turn, and the special values.
+void TestGeometry::cosSinAgainstLongDouble() {
+    std::mt19937_64 rng(7);
+    double worst = 0.0, worstAngle = 0.0;
+    auto ulpsOff = [](double got, long double exact) {
+        const double rounded = static_cast<double>(exact);
+        const double ulp = std::max(std::abs(std::nextafter(rounded, INFINITY) - rounded), std::ldexp(1.0, -60));
+        return static_cast<double>(std::fabs(static_cast<long double>(got) - exact)) / ulp;
+    };
+    auto check = [&](double angle) {
+        const CosSin r = cosSin(angle);
+        const double off = std::max(ulpsOff(r.s, sinl(angle)), ulpsOff(r.c, cosl(angle)));
+        if (off > worst) worst = off, worstAngle = angle;
+    };
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), decade(-15.0, 5.0);
+    for (int i = 0; i < 1000000; ++i) check(unit(rng) * std::pow(10.0, decade(rng)));
+    for (int k = -20000; k <= 20000; ++k) {
+        const double quarter = k * (M_PI / 4);
+        check(quarter);
+        check(std::nextafter(quarter, INFINITY));
+        check(std::nextafter(quarter, -INFINITY));
+    }
+    QVERIFY2(worst <= 2.5, qPrintable(QString("%1 ulps at %2").arg(worst).arg(worstAngle, 0, 'g', 17)));
+    // Exact where the values are exact (the sign of a zero sine is not
+    // kept), and odd and even as sine and cosine are.
+    QCOMPARE(cosSin(0.0).c, 1.0);
+    QCOMPARE(cosSin(0.0).s, 0.0);
+    for (double a : {0.3, 2.0, 4.0, 1234.5}) {
+        QCOMPARE(cosSin(-a).s, -cosSin(a).s);
+        QCOMPARE(cosSin(-a).c, cosSin(a).c);
+    }
+    // Past the reduction's range the C library's; NaN for NaN and infinities.
+    QCOMPARE(cosSin(1e7).s, std::sin(1e7));
+    QCOMPARE(cosSin(-3e300).c, std::cos(-3e300));
+    for (double bad : {NAN, INFINITY, -INFINITY}) {
+        QVERIFY(std::isnan(cosSin(bad).s));
+        QVERIFY(std::isnan(cosSin(bad).c));
+    }
+}
 
 void TestGeometry::robotVerticesMatchFormula_data() {
     QTest::addColumn<double>("x");

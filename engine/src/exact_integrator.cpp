@@ -24,23 +24,9 @@ constexpr std::array<double, kGaussNodes> kNodeWeights = {
 constexpr int kMaxPanels = 1 << 20;
 
 // Nodes within this angle (rad) of the middle node take their sine and cosine
-// from the middle node's by angle addition, with the small angle's by series.
+// from the middle node's by angle addition, with the small angle's by
+// series (sinCosNearZero, valid to pi/4): no range reduction for them.
 constexpr double kSmallTurn = 0.5;
-
-// sin and cos of |d| <= kSmallTurn by their Taylor series to d^15 and d^16:
-// the remainder, below 0.5^17/17! ~ 2e-20, is under rounding. Four of the
-// five libm sin/cos pairs of a panel are the exact integrator's main cost.
-void smallSinCos(double d, double& s, double& c) {
-    // 1/((2k)(2k+1)) and 1/((2k-1)(2k)), multiplied rather than divided.
-    constexpr double s1 = 1.0 / 6, s2 = 1.0 / 20, s3 = 1.0 / 42, s4 = 1.0 / 72, s5 = 1.0 / 110, s6 = 1.0 / 156,
-                     s7 = 1.0 / 210;
-    constexpr double c1 = 1.0 / 2, c2 = 1.0 / 12, c3 = 1.0 / 30, c4 = 1.0 / 56, c5 = 1.0 / 90, c6 = 1.0 / 132,
-                     c7 = 1.0 / 182, c8 = 1.0 / 240;
-    const double q = d * d;
-    s = d * (1 - q * s1 * (1 - q * s2 * (1 - q * s3 * (1 - q * s4 * (1 - q * s5 * (1 - q * s6 * (1 - q * s7)))))));
-    c = 1 -
-        q * c1 * (1 - q * c2 * (1 - q * c3 * (1 - q * c4 * (1 - q * c5 * (1 - q * c6 * (1 - q * c7 * (1 - q * c8)))))));
-}
 
 }  // namespace
 
@@ -174,7 +160,7 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
                     cosine = midCos, sine = midSin;
                 } else if (std::abs(turn) <= kSmallTurn) {
                     double s, c;
-                    smallSinCos(turn, s, c);
+                    sinCosNearZero(turn, s, c);
                     cosine = midCos * c - midSin * s;
                     sine = midSin * c + midCos * s;
                 } else {
