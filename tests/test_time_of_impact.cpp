@@ -142,6 +142,7 @@ private slots:
     void separationOfBallAndWalls();
     void pathFollowsTheExactMotion();
     void advancementStopsAtTheFirstTouch();
+    void gapsCloseAlongTheNormal();
     void firstContactAgainstBruteForce_data();
     void firstContactAgainstBruteForce();
     void headOn();
@@ -267,6 +268,66 @@ void TestTimeOfImpact::advancementStopsAtTheFirstTouch() {
     // A graze that never touches but keeps the gap tiny: stops short, safely.
     const Advancement graze = advanceConservatively([](double) { return 2e-6; }, 10.0, 0.0, 1.0);
     QVERIFY(!graze.touched && !graze.finished && graze.t < 1.0);
+}
+
+// The gaps' closing speeds (body_gaps.h) where the bound along the normal is
+// far below the point speeds' sum, against what the motion allows.
+void TestTimeOfImpact::gapsCloseAlongTheNormal() {
+    const RobotModel model = makeRobotModel(RobotParams{});
+    const double side = RobotParams{}.side, room = side / std::sqrt(2.0) - side / 2;  // m
+    const double horizon = 0.03;                                                         // s
+    // The one gap of a lone robot with the right wall (x = 0.75) of a 1.5 m field.
+    auto wallGap = [&](const RobotState& r, const Voltages& e) {
+        Scene s = scene({r}, {-0.6, -0.5, 0.0, 0.0});
+        s.field = makeRectangularField(1.5, 1.3);
+        const WorldModel m = makeWorldModel(s);
+        WorldState state = initialWorldState(s);
+        state.voltages = {e};
+        std::vector<BodyGap> gaps;
+        BodyGapScratch scratch;
+        findBodyGaps(m, state, {1}, false, horizon, gaps, scratch);
+        const double pointSpeed = pointSpeedBoundWithin(model, r, e, horizon);
+        for (const BodyGap& g : gaps)
+            if (g.b.kind == BodyKind::Wall && std::abs(m.field.walls[g.b.index].normal.x() + 1.0) < 1e-12)
+                return std::make_pair(g, pointSpeed);
+        return std::make_pair(BodyGap{}, pointSpeed);
+    };
+    // Spinning on the spot at full speed, face on, 5 mm farther than its
+    // corners can reach: it can never touch the wall.
+    const Voltages spin{10.0, -10.0};
+    const double w = steadyStateVelocity(model, spin)(1);  // rad/s
+    RobotState spinner;
+    spinner.x = 0.75 - side / 2 - room - 0.005, spinner.omega = w;
+    auto [g, pointSpeed] = wallGap(spinner, spin);
+    QCOMPARE(g.b.kind, BodyKind::Wall);
+    QVERIFY(std::abs(g.gap - room - 0.005) < 1e-12);
+    QVERIFY2(g.gap < pointSpeed * horizon, "the point speeds alone would stop it");
+    QVERIFY2(!(g.closing * horizon >= g.gap), qPrintable(QString("closing %1 m/s").arg(g.closing)));
+    // 1 mm nearer than its corners reach it touches within the horizon (a
+    // quarter turn takes pi / (2 w)), and the bound must say it may.
+    spinner.x = 0.75 - side / 2 - room + 0.001;
+    std::tie(g, pointSpeed) = wallGap(spinner, spin);
+    QVERIFY(M_PI / 2 / std::abs(w) < horizon);
+    QVERIFY2(g.closing * horizon >= g.gap, qPrintable(QString("closing %1 m/s").arg(g.closing)));
+    // The first instant its corner can reach the wall, from the bound, is
+    // no later than when it does: the corner's reach is (s/sqrt2) cos(pi/4 - w t).
+    const double reachAt = std::acos((side / 2 + room - 0.001) / (side / std::sqrt(2.0)));  // rad turned
+    QVERIFY2(g.gap / g.closing <= (M_PI / 4 - reachAt) / std::abs(w),
+             qPrintable(QString("%1 s, contact at %2 s").arg(g.gap / g.closing).arg((M_PI / 4 - reachAt) / std::abs(w))));
+    // Driving straight along the wall 2 mm from it: nothing closes at all,
+    // though the point speed bound is its full speed.
+    const Voltages ahead{8.0, 8.0};
+    RobotState runner;
+    runner.x = 0.75 - side / 2 - 0.002, runner.theta = M_PI / 2, runner.v = steadyStateVelocity(model, ahead)(0);
+    std::tie(g, pointSpeed) = wallGap(runner, ahead);
+    QVERIFY(pointSpeed > 1.0);
+    QVERIFY2(g.closing < 1e-9, qPrintable(QString("closing %1 m/s").arg(g.closing)));
+    // Turned 0.1 rad towards the wall it closes at v sin(0.1) at least (its
+    // centre alone), and at most at the point speeds.
+    runner.theta = M_PI / 2 - 0.1;
+    std::tie(g, pointSpeed) = wallGap(runner, ahead);
+    QVERIFY2(g.closing >= runner.v * std::sin(0.1) && g.closing <= pointSpeed,
+             qPrintable(QString("closing %1 m/s").arg(g.closing)));
 }
 
 void TestTimeOfImpact::firstContactAgainstBruteForce_data() {

@@ -15,9 +15,18 @@ namespace vssim {
 // stability region), so for them: twice the speed bound, and only for one
 // step well inside their stability regions; beyond that nothing is promised.
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon) {
+    ModeProgress progress;
+    progress.T = NAN;  // fits nothing
+    return robotTravelForIntegrator(model, state, i, horizon, progress);
+}
+
+double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon,
+                                ModeProgress& progress) {
     const RobotModel& robot = model.robots[i];
-    if (model.settings.integrator == Integrator::Exact)
-        return robotTravelBound(robot, state.robots[i], state.voltages[i], horizon, 0.0);
+    if (model.settings.integrator == Integrator::Exact) {
+        if (!progress.fits(robot, horizon)) progress = modeProgress(robot, horizon);
+        return robotTravelBound(robot, state.robots[i], state.voltages[i], progress, 0.0);
+    }
     if (!(horizon * robot.fastestRate <= 2.0)) return INFINITY;
     return 2.0 * velocityBound(robot, state.robots[i], state.voltages[i])(0) * horizon;
 }
@@ -35,8 +44,10 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     const std::size_t n = state.robots.size();
     out.robotTravel.resize(n);
     double farthest = 0.0;  // m
+    ModeProgress progress;
+    progress.T = NAN;  // fits nothing yet
     for (std::size_t i = 0; i < n; ++i) {
-        out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon);
+        out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon, progress);
         farthest = std::max(farthest, out.robotTravel[i]);
     }
     out.ballTravel = ballTravelForIntegrator(model, state, horizon);

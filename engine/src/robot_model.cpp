@@ -105,7 +105,16 @@ double pointSpeedBound(const RobotModel& model, const RobotState& state, const V
     return bound(0) + boundingRadius(model.params.side) * bound(1);
 }
 
-double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
+ModeProgress modeProgress(const RobotModel& model, double T) {
+    ModeProgress p;
+    p.T = T;
+    p.rate = model.modeRate;
+    for (int k = 0; k < 2; ++k) p.covered[k] = -std::expm1(model.modeRate[k] * T);
+    return p;
+}
+
+Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
+                                    const ModeProgress& progress) {
     const Eigen::Vector2d u0(state.v, state.omega);
     const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
     Eigen::Vector2d bound = Eigen::Vector2d::Zero();
@@ -113,15 +122,26 @@ double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, c
         // The mode's share goes along a segment from P_k u0 towards P_k u_inf
         // and has covered the fraction 1 - e^(rate_k T) of it at T.
         const Eigen::Vector2d start = model.modeProjector[k] * u0, end = model.modeProjector[k] * target;
-        const double covered = -std::expm1(model.modeRate[k] * T);  // in [0, 1)
-        bound += start.cwiseAbs().cwiseMax((start + covered * (end - start)).cwiseAbs());
+        bound += start.cwiseAbs().cwiseMax((start + progress.covered[k] * (end - start)).cwiseAbs());
     }
+    if (!bound.allFinite()) return Eigen::Vector2d::Constant(INFINITY);
+    return bound;
+}
+
+Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
+    return velocityBoundWithin(model, state, e, modeProgress(model, T));
+}
+
+double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
+    const Eigen::Vector2d bound = velocityBoundWithin(model, state, e, T);
     const double speed = bound(0) + boundingRadius(model.params.side) * bound(1);
     return std::isfinite(speed) ? speed : INFINITY;
 }
 
-double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm) {
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e,
+                        const ModeProgress& progress, double arm) {
     const double rho = arm;  // m
+    const double T = progress.T;
     const Eigen::Vector2d u0(state.v, state.omega);
     const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
     double travel = 0.0;
@@ -131,10 +151,14 @@ double robotTravelBound(const RobotModel& model, const RobotState& state, const 
         const double endSpeed = std::abs(end(0)) + rho * std::abs(end(1));        // m/s
         // int_0^T e^(l t) dt = (1 - e^(l T)) / (-l), or T when l = 0.
         const double rate = model.modeRate[k];
-        const double decaying = rate < 0.0 ? -std::expm1(rate * T) / -rate : T;  // s
+        const double decaying = rate < 0.0 ? progress.covered[k] / -rate : T;  // s
         travel += startSpeed * decaying + endSpeed * (T - decaying);
     }
     return std::isfinite(travel) ? travel : INFINITY;
+}
+
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm) {
+    return robotTravelBound(model, state, e, modeProgress(model, T), arm);
 }
 
 RobotOutputs computeRobotOutputs(const RobotModel& model, const RobotState& state, const Voltages& e) {

@@ -8,6 +8,7 @@
 
 #include "vssim/broad_phase.h"
 #include "vssim/contact.h"
+#include "vssim/geometry.h"
 #include "vssim/separation.h"
 #include "vssim/world_model.h"
 
@@ -16,15 +17,36 @@ namespace vssim {
 // Body a (a robot or the ball) and body b (a robot, the ball or a wall), in
 // the roles Contact gives them: robot i and robot j > i; the ball and a
 // robot; a robot or the ball and a wall.
+//
+// `closing` is a speed S such that the pair cannot touch before gap / S:
+// the smaller of two bounds, each safe on its own (body_gaps.cpp):
+//  - the sum of the fastest any point of either body can move (the gap is a
+//    distance between sets whose points move at most that fast);
+//  - the time the pair needs to close the gap along the separation's normal
+//    n, held fixed: the bodies' extents along n are apart by exactly the gap
+//    now (n is the direction between their nearest points), and they cannot
+//    touch while those extents stay apart. A robot's centre moves along n at
+//    most at |v| |cos(theta - angle of n)|, with theta within |w| T of where
+//    it is now; its extent along n grows at most at |w| (s/2)
+//    ||cos| - |sin|| of that angle now (0 with a corner towards the other
+//    body, 1 face on) and never past s/sqrt2 (a robot spinning near a wall
+//    can only reach so far). The ball
+//    closes at the component of its velocity towards the other body (it
+//    slides straight, slowing down); a wall not at all. Much later than the
+//    first for a robot that spins or runs along a wall or past another.
 struct BodyGap {
     BodyRef a;
     BodyRef b;
     double gap = 0.0;      // m, now
-    double closing = 0.0;  // m/s: the fastest the gap can shrink within the horizon under the current voltages
+    double closing = 0.0;  // m/s: how fast the gap can close within the horizon under the current voltages (above)
 };
 
 struct BodyGapScratch {
     std::vector<double> speed;  // per body (robots, then the ball): the fastest any of its points moves, m/s
+    std::vector<double> linear;    // per robot: its bound on |v| within the horizon, m/s
+    std::vector<double> turning;   // per robot: its bound on |w| within the horizon, rad/s
+    std::vector<double> swing;     // per robot: the most its heading can turn within the horizon, rad
+    std::vector<CosSin> heading;   // per robot: its heading now
     std::vector<std::pair<int, int>> pairs;
     std::vector<int> moving;  // indices of the moving robots
     std::vector<RobotState> movingPoses;

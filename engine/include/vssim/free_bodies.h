@@ -29,6 +29,10 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
 // How far robot i's centre can go within `horizon` (s) as the scene's
 // integrator computes it, m; infinity when nothing is promised (free_bodies.cpp).
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon);
+// The same, reusing `progress` when it fits robot i and the horizon, else
+// computing it there (for a loop over robots).
+double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon,
+                                ModeProgress& progress);
 // How far the ball can go within `horizon` (s) in free flight, m.
 double ballTravelForIntegrator(const WorldModel& model, const WorldState& state, double horizon);
 

@@ -57,11 +57,31 @@ Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, 
 // A bound on the speed of every point of the robot, |v| + |w| s/sqrt2, m/s,
 // at every time t >= 0 under the same conditions (from velocityBound).
 double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e);
-// The same bound over [0, T] only, m/s: each mode's share lies between its
-// start and where it is at T, so |u_j(t)| <= sum_k max(|(P_k u0)_j|,
-// |(P_k u(T))_j|) for t <= T. Much tighter than pointSpeedBound over a
-// millisecond for a robot far from its steady state (under new voltages).
-// Infinite when the state or the model is not finite.
+// How far each velocity mode has gone from its start towards its steady
+// state T seconds on, 1 - e^(rate_k T): all that the bounds over [0, T]
+// below need of T. Computed once, it serves every robot of the same rates
+// (a team of one robot: every robot of a default scene) for the same T.
+struct ModeProgress {
+    double T = 0.0;                   // s
+    std::array<double, 2> rate{};     // the rates it is for, 1/s
+    std::array<double, 2> covered{};  // 1 - e^(rate_k T), in [0, 1)
+    bool fits(const RobotModel& model, double horizon) const {
+        return T == horizon && rate == model.modeRate;
+    }
+};
+ModeProgress modeProgress(const RobotModel& model, double T);
+
+// Bounds on |v(t)| and |w(t)| over [0, T] only (m/s, rad/s): each mode's
+// share lies between its start and where it is at T, so |u_j(t)| <=
+// sum_k max(|(P_k u0)_j|, |(P_k u(T))_j|) for t <= T. Much tighter than
+// velocityBound over a millisecond for a robot far from its steady state
+// (under new voltages). Infinite when the state or the model is not finite.
+Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
+// The same with the modes' progress over T already computed (progress.fits(model, T)).
+Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
+                                    const ModeProgress& progress);
+// The point speed bound over [0, T] only, |v| + |w| s/sqrt2 from
+// velocityBoundWithin, m/s; infinite when either bound is.
 double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
 
 // A bound on how far a point of the robot at distance `arm` (m) from its
@@ -73,6 +93,9 @@ double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, c
 // much tighter than a speed bound times T for a robot that starts slow.
 // Infinite when the state or the model is not finite.
 double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e, double T, double arm);
+// The same with the modes' progress over T already computed (progress.fits(model, T)).
+double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e,
+                        const ModeProgress& progress, double arm);
 
 // Quantities a user wants to see; not part of the state.
 struct RobotOutputs {
