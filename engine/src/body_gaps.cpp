@@ -35,81 +35,99 @@ Separation separationBetween(const WorldModel& model, const BodyRef& a, const Ro
     return robotRobotSeparation(poseA, model.sides[a.index], poseB, model.sides[b.index]);
 }
 
+MotionBound robotMotionBound(const RobotModel& model, const RobotState& state, const Voltages& e, double side,
+                             const ModeProgress& progress) {
+    const Eigen::Vector2d bound = velocityBoundWithin(model, state, e, progress);
+    MotionBound m;
+    m.linear = bound(0);
+    m.turning = bound(1);
+    m.swing = bound(1) * progress.T;
+    m.heading = cosSin(state.theta);
+    m.side = side;
+    m.pointSpeed = m.linear + boundingRadius(side) * m.turning;
+    if (!std::isfinite(m.pointSpeed)) m.pointSpeed = INFINITY;
+    return m;
+}
+
+MotionBound ballMotionBound(const BallState& ball) {
+    MotionBound m;
+    m.ball = true;
+    m.velocity = Eigen::Vector2d(ball.vx, ball.vy);
+    m.pointSpeed = std::hypot(ball.vx, ball.vy);
+    return m;
+}
+
+namespace {
+
+// How a body can move towards the other body of its pair along the unit
+// vector `towards`, held fixed (body_gaps.h). A robot's centre moves along
+// it at v cos(phi), phi the angle between the heading and `towards`, which
+// stays within `swing` of phi0 (now): |cos| on that interval is at most
+// cos(|phi0| - swing) <= |cos phi0| + |sin phi0| swing (phi0 folded into
+// [0, pi/2]; cos(x - d) = cos x cos d + sin x sin d), and at most 1, which
+// that sum also covers when the interval reaches phi = 0 (cos x + x sin x
+// >= 1 on [0, pi/2]). The square's extent along it is (s/2)(|cos phi| +
+// |sin phi|) = (s/sqrt2) cos z, z in [0, pi/4] the angle from phi to the
+// nearest diagonal; after turning by at most tau it is at most
+// (s/sqrt2) cos(max(0, z0 - tau)), which is within (s/sqrt2) sin(z0) tau of
+// where it is now (cos is concave there) and never beyond s/sqrt2;
+// (s/sqrt2) sin z0 = (s/2) ||cos phi0| - |sin phi0||. The ball goes
+// straight, slowing down: its speed along `towards` only falls, and its
+// extent is its radius.
+struct Approach {
+    double linear = 0.0;  // m/s: the centre's speed towards the other body, at most
+    double spin = 0.0;    // m/s: how fast the extent towards it can grow
+    double room = 0.0;    // m: how much the extent towards it can grow at all
+};
+
+Approach approachAlong(const MotionBound& body, const Eigen::Vector2d& towards) {
+    if (body.ball) return Approach{std::max(0.0, towards.dot(body.velocity))};
+    const CosSin& h = body.heading;
+    const double along = std::abs(towards.x() * h.c + towards.y() * h.s);   // |cos phi0|
+    const double across = std::abs(towards.x() * h.s - towards.y() * h.c);  // |sin phi0|
+    const double half = 0.5 * body.side;
+    return Approach{body.linear * std::min(1.0, along + across * body.swing),
+                    half * std::abs(along - across) * body.turning,
+                    std::max(0.0, boundingRadius(body.side) - half * (along + across))};
+}
+
+}  // namespace
+
+// gap / t with t the later of the two bounds' earliest contacts. Along the
+// normal, the gap along it after t is at least gap - L t - min(W t, R) (L,
+// W, R the two bodies' linear, spin and room summed), which first reaches 0
+// at gap / (L + W) when W gap / (L + W) <= R, else at (gap - R) / L. Body a
+// moves towards b along -normal, b towards a along +normal. Only for a gap
+// clear of rounding in the normal's direction (the nearest points are found
+// to about 1e-16 m; kNormalTrustGap is far above that).
+double closingSpeed(const Separation& s, const MotionBound& a, const MotionBound* b, double pointSpeeds) {
+    if (s.overlapping || !(s.distance > kNormalTrustGap)) return pointSpeeds;
+    const Approach p = approachAlong(a, -s.normal), q = b ? approachAlong(*b, s.normal) : Approach{};
+    const double L = p.linear + q.linear, W = p.spin + q.spin, R = p.room + q.room;
+    const double gap = s.distance;
+    double t = gap / (L + W);  // s; +inf when nothing moves (gap > 0 here)
+    if (W * t > R) t = L > 0.0 ? (gap - R) / L : INFINITY;
+    const double closing = gap / t;                         // m/s
+    return closing < pointSpeeds ? closing : pointSpeeds;  // (NaN: the point speeds)
+}
+
 void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<char>& movingRobots,
                   bool ballMoving, double horizon, std::vector<BodyGap>& out, BodyGapScratch& scratch) {
     out.clear();
     const std::size_t n = state.robots.size();
-    std::vector<double>& speed = scratch.speed;
-    speed.assign(n + 1, 0.0);
-    scratch.linear.resize(n);
-    scratch.turning.resize(n);
-    scratch.swing.resize(n);
-    scratch.heading.resize(n);
+    std::vector<MotionBound>& bounds = scratch.bounds;
+    bounds.assign(n + 1, MotionBound{});
     double fastest = 0.0;  // m/s
     ModeProgress progress;
     progress.T = NAN;  // fits nothing yet
     for (std::size_t i = 0; i < n; ++i) {
         if (!movingRobots[i]) continue;
         if (!progress.fits(model.robots[i], horizon)) progress = modeProgress(model.robots[i], horizon);
-        const Eigen::Vector2d bound = velocityBoundWithin(model.robots[i], state.robots[i], state.voltages[i], progress);
-        scratch.linear[i] = bound(0);
-        scratch.turning[i] = bound(1);
-        scratch.swing[i] = bound(1) * horizon;
-        scratch.heading[i] = cosSin(state.robots[i].theta);
-        speed[i] = scratch.linear[i] + boundingRadius(model.sides[i]) * scratch.turning[i];
-        if (!std::isfinite(speed[i])) speed[i] = INFINITY;
-        fastest = std::max(fastest, speed[i]);
+        bounds[i] = robotMotionBound(model.robots[i], state.robots[i], state.voltages[i], model.sides[i], progress);
+        fastest = std::max(fastest, bounds[i].pointSpeed);
     }
-    if (ballMoving) speed[n] = std::hypot(state.ball.vx, state.ball.vy);
-    // How body i can move towards the other body of its pair along the unit
-    // vector `towards`, held fixed (body_gaps.h). A robot's centre moves along
-    // it at v cos(phi), phi the angle between the heading and `towards`, which
-    // stays within `swing` of phi0 (now): |cos| on that interval is at most
-    // cos(|phi0| - swing) <= |cos phi0| + |sin phi0| swing (phi0 folded into
-    // [0, pi/2]; cos(x - d) = cos x cos d + sin x sin d), and at most 1, which
-    // that sum also covers when the interval reaches phi = 0 (cos x + x sin x
-    // >= 1 on [0, pi/2]). The square's extent along it is (s/2)(|cos phi| +
-    // |sin phi|) = (s/sqrt2) cos z, z in [0, pi/4] the angle from phi to the
-    // nearest diagonal; after turning by at most tau it is at most
-    // (s/sqrt2) cos(max(0, z0 - tau)), which is within (s/sqrt2) sin(z0) tau
-    // of where it is now (cos is concave there) and never beyond s/sqrt2;
-    // (s/sqrt2) sin z0 = (s/2) ||cos phi0| - |sin phi0||. The ball
-    // goes straight, slowing down: its speed along `towards` only falls, and
-    // its extent is its radius.
-    struct Approach {
-        double linear = 0.0;  // m/s: the centre's speed towards the other body, at most
-        double spin = 0.0;    // m/s: how fast the extent towards it can grow
-        double room = 0.0;    // m: how much the extent towards it can grow at all
-    };
-    auto approach = [&](std::size_t i, const Eigen::Vector2d& towards) {
-        if (i == n) return Approach{std::max(0.0, towards.x() * state.ball.vx + towards.y() * state.ball.vy)};
-        if (i > n) return Approach{};  // a wall
-        const CosSin& h = scratch.heading[i];
-        const double along = std::abs(towards.x() * h.c + towards.y() * h.s);   // |cos phi0|
-        const double across = std::abs(towards.x() * h.s - towards.y() * h.c);  // |sin phi0|
-        const double half = 0.5 * model.sides[i];
-        return Approach{scratch.linear[i] * std::min(1.0, along + across * scratch.swing[i]),
-                        half * std::abs(along - across) * scratch.turning[i],
-                        std::max(0.0, boundingRadius(model.sides[i]) - half * (along + across))};
-    };
-    // The pair's closing speed (body_gaps.h): gap / t with t the later of the
-    // two bounds' earliest contacts. Along the normal, the gap along it after
-    // t is at least gap - L t - min(W t, R) (L, W, R the two bodies' linear,
-    // spin and room summed), which first reaches 0 at gap / (L + W) when
-    // W gap / (L + W) <= R, else at (gap - R) / L. Body a moves towards b
-    // along -normal, b towards a along +normal. Only for a gap clear of
-    // rounding in the normal's direction (the nearest points are found to
-    // about 1e-16 m; kNormalTrustGap is far above that).
-    auto closingOf = [&](std::size_t i, std::size_t j, const Separation& s, double pointSpeeds) {
-        if (s.overlapping || !(s.distance > kNormalTrustGap)) return pointSpeeds;
-        const Approach p = approach(i, -s.normal), q = approach(j, s.normal);
-        const double L = p.linear + q.linear, W = p.spin + q.spin, R = p.room + q.room;
-        const double gap = s.distance;
-        double t = gap / (L + W);  // s; +inf when nothing moves, NaN for 0/0 (not reached: gap > 0)
-        if (W * t > R) t = L > 0.0 ? (gap - R) / L : INFINITY;
-        const double closing = gap / t;  // m/s
-        return closing < pointSpeeds ? closing : pointSpeeds;  // (NaN: the point speeds)
-    };
+    if (ballMoving) bounds[n] = ballMotionBound(state.ball);
+    auto speed = [&](std::size_t i) { return bounds[i].pointSpeed; };
     auto reach = [&](std::size_t i) { return i < n ? boundingRadius(model.sides[i]) : model.ball.radius; };
     auto centre = [&](std::size_t i) {
         return i < n ? Eigen::Vector2d(state.robots[i].x, state.robots[i].y)
@@ -119,11 +137,11 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     auto ref = [n](std::size_t i) { return i < n ? BodyRef{BodyKind::Robot, int(i)} : BodyRef{BodyKind::Ball, 0}; };
     // Bodies i (a) and j (b): kept when their bounding discs can meet within the horizon.
     auto offer = [&](std::size_t i, std::size_t j) {
-        const double closing = speed[i] + speed[j];
+        const double closing = speed(i) + speed(j);
         const double discGap = (centre(i) - centre(j)).norm() - reach(i) - reach(j);
         if (discGap > closing * horizon) return;
         const Separation s = separationBetween(model, ref(i), pose(i), ref(j), pose(j));
-        out.push_back({ref(i), ref(j), s.distance, closingOf(i, j, s, closing)});
+        out.push_back({ref(i), ref(j), s.distance, closingSpeed(s, bounds[i], &bounds[j], closing), s.normal, s.point});
     };
     // Robot pairs, both moving (a frozen body is out of every moving one's
     // reach: long_step_planner.cpp): among the moving robots only, so that a
@@ -153,7 +171,7 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     // Walls: skipped at once for a body clear of all of them by its reach and travel.
     for (std::size_t i = 0; i <= n; ++i) {
         if (i < n ? !movingRobots[i] : !ballMoving) continue;
-        const double travel = speed[i] * horizon;
+        const double travel = speed(i) * horizon;
         const Eigen::Vector2d c = centre(i);
         if (clearOfWalls(model.field, c, reach(i) + travel)) continue;
         for (std::size_t w = 0; w < model.field.walls.size(); ++w) {
@@ -163,7 +181,7 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
             if (closestPointOnSegment(wall.a, wall.b, c).distance - reach(i) > travel) continue;
             const BodyRef wallRef{BodyKind::Wall, int(w)};
             const Separation s = separationBetween(model, ref(i), pose(i), wallRef, RobotState{});
-            out.push_back({ref(i), wallRef, s.distance, closingOf(i, n + 1 + w, s, speed[i])});
+            out.push_back({ref(i), wallRef, s.distance, closingSpeed(s, bounds[i], nullptr, speed(i)), s.normal, s.point});
         }
     }
 }

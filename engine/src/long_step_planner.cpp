@@ -301,20 +301,37 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         }
         return RobotState{};
     };
-    // How fast each gap can close within this step: from the bodies' speed
-    // bounds over the step alone (not over the rest of the stretch, which
-    // depends on where the call ends: the search must not).
-    auto speedWithinStep = [&](const BodyRef& body) {
-        if (body.kind == BodyKind::Robot)
-            return pointSpeedBoundWithin(model_.robots[body.index], stepStartRobots_[body.index],
-                                         state_.voltages[body.index], dt);
-        return body.kind == BodyKind::Ball ? std::hypot(stepStartBall_.vx, stepStartBall_.vy) : 0.0;
+    // How fast each gap can close within this step: from the bodies' bounds
+    // over the step alone (not over the rest of the stretch, which depends on
+    // where the call ends: the search must not). Two speeds (body_gaps.h):
+    // the point speeds' sum bounds how fast the gap can change from any
+    // instant on, which the search below needs, as it measures the gap
+    // again at every instant it reaches; the bound along the gap's normal at
+    // the step's start holds from the start only, enough to skip a pair that
+    // cannot close within the step at all.
+    ModeProgress progress;
+    progress.T = NAN;  // fits nothing yet
+    auto boundWithinStep = [&](const BodyRef& body) {
+        if (body.kind == BodyKind::Ball) return ballMotionBound(stepStartBall_);
+        const int i = body.index;
+        if (!progress.fits(model_.robots[i], dt)) progress = modeProgress(model_.robots[i], dt);
+        return robotMotionBound(model_.robots[i], stepStartRobots_[i], state_.voltages[i], model_.sides[i], progress);
     };
-    for (BodyGap& g : gaps_) g.closing = speedWithinStep(g.a) + speedWithinStep(g.b);
+    searched_.assign(gaps_.size(), 0);
+    for (std::size_t k = 0; k < gaps_.size(); ++k) {
+        BodyGap& g = gaps_[k];
+        const MotionBound a = boundWithinStep(g.a);
+        const MotionBound b = g.b.kind == BodyKind::Wall ? MotionBound{} : boundWithinStep(g.b);
+        const MotionBound* other = g.b.kind == BodyKind::Wall ? nullptr : &b;
+        g.closing = a.pointSpeed + b.pointSpeed;
+        const double alongNormal = closingSpeed({g.gap, false, g.normal, g.point}, a, other, g.closing);
+        searched_[k] = !(g.gap > alongNormal * dt);  // else it cannot close within the step
+    }
     double first = dt;  // s into the step
     bool touched = false;
-    for (const BodyGap& g : gaps_) {
-        if (g.gap > g.closing * dt) continue;  // cannot close within the step
+    for (std::size_t k = 0; k < gaps_.size(); ++k) {
+        const BodyGap& g = gaps_[k];
+        if (!searched_[k]) continue;
         // Nor when the gaps at both ends are too wide for the step: a contact
         // at s would need gap(0) <= S s and gap(h) <= S (h - s). (Most steps
         // searched are near misses: a robot along a wall, two passing by.)
@@ -326,21 +343,17 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         // at every step. If they meet by the step's end, the step is an
         // ordinary one instead, as on the grid.
         if (g.gap <= kRestingGap) {
-            Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
-            const Separation s =
-                separationBetween(model_, g.a, poseAmong(g.a, stepStartRobots_, stepStartBall_), g.b,
-                                  poseAmong(g.b, stepStartRobots_, stepStartBall_));
-            if (!s.overlapping) {
-                const Eigen::Vector2d relative =
-                    contactPointVelocity(atStart, g.a, s.point) - contactPointVelocity(atStart, g.b, s.point);  // m/s
-                if (-relative.dot(s.normal) < kRestingSpeed) {
-                    // Unless they meet by the step's end: then an ordinary step answers them.
-                    if (separationBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b)).overlapping) {
-                        restoreStepping(ballMoving);
-                        return ImpactStep::Unresolved;
-                    }
-                    continue;
+            // (Their nearest points at the step's start are the gap's, from gapSafeSteps.)
+            const Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
+            const Eigen::Vector2d relative =
+                contactPointVelocity(atStart, g.a, g.point) - contactPointVelocity(atStart, g.b, g.point);  // m/s
+            if (-relative.dot(g.normal) < kRestingSpeed) {
+                // Unless they meet by the step's end: then an ordinary step answers them.
+                if (atEnd.overlapping) {
+                    restoreStepping(ballMoving);
+                    return ImpactStep::Unresolved;
                 }
+                continue;
             }
         }
         for (const BodyRef& body : {g.a, g.b}) {

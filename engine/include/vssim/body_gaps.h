@@ -39,14 +39,33 @@ struct BodyGap {
     BodyRef b;
     double gap = 0.0;      // m, now
     double closing = 0.0;  // m/s: how fast the gap can close within the horizon under the current voltages (above)
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero();  // the separation's normal now (zero when touching)
+    Eigen::Vector2d point = Eigen::Vector2d::Zero();   // the middle of the nearest points now, m
 };
 
+// What bounds one body's motion over a horizon, for its gaps' closing speeds.
+struct MotionBound {
+    double pointSpeed = 0.0;  // m/s: the fastest any point of the body moves
+    double linear = 0.0;      // m/s: a robot's |v|, at most
+    double turning = 0.0;     // rad/s: a robot's |w|, at most
+    double swing = 0.0;       // rad: the most a robot's heading can turn
+    CosSin heading;           // a robot's heading now
+    double side = 0.0;        // m: a robot's side
+    bool ball = false;        // the ball: it goes straight at `velocity`, slowing down
+    Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // m/s: the ball's
+};
+// A robot's over progress.T seconds (progress.fits(model, progress.T)).
+MotionBound robotMotionBound(const RobotModel& model, const RobotState& state, const Voltages& e, double side,
+                             const ModeProgress& progress);
+MotionBound ballMotionBound(const BallState& ball);
+// The closing speed of a gap (BodyGap) with separation `s` between body a
+// and body b (nullptr: a wall), from their bounds over the same horizon;
+// `pointSpeeds` is their point speeds' sum (the first bound), returned when
+// the second is no better or `s` is within rounding of touching.
+double closingSpeed(const Separation& s, const MotionBound& a, const MotionBound* b, double pointSpeeds);
+
 struct BodyGapScratch {
-    std::vector<double> speed;  // per body (robots, then the ball): the fastest any of its points moves, m/s
-    std::vector<double> linear;    // per robot: its bound on |v| within the horizon, m/s
-    std::vector<double> turning;   // per robot: its bound on |w| within the horizon, rad/s
-    std::vector<double> swing;     // per robot: the most its heading can turn within the horizon, rad
-    std::vector<CosSin> heading;   // per robot: its heading now
+    std::vector<MotionBound> bounds;  // per body (robots, then the ball), over the horizon
     std::vector<std::pair<int, int>> pairs;
     std::vector<int> moving;  // indices of the moving robots
     std::vector<RobotState> movingPoses;
