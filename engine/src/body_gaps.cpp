@@ -9,9 +9,12 @@ namespace vssim {
 
 namespace {
 
-// Below this gap (m) the closing speed is the point speeds' sum only: the
-// normal between nearest points a micrometre apart is still good to about
-// 1e-10 rad, far too little to matter (body_gaps.h).
+// Below this gap (m) the closing speed is the point speeds' sum only. The
+// normal between nearest points found to about 1e-16 m, a micrometre apart,
+// is good to about 1e-10 rad, which moves a projection across a body or a
+// wall's length by well under a nanometre. (The planner treats gaps under
+// kContactSkin, 2 um, as touching before it reads a closing speed, so in
+// practice this guard only matters to other callers.)
 constexpr double kNormalTrustGap = 1e-6;
 
 }  // namespace
