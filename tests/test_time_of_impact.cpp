@@ -286,7 +286,7 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
         std::vector<BodyGap> gaps;
         BodyGapScratch scratch;
         findBodyGaps(m, state, {1}, false, horizon, gaps, scratch);
-        const double pointSpeed = pointSpeedBoundWithin(model, r, e, horizon);
+        const double pointSpeed = robotMotionBound(model, r, e, side, modeProgress(model, horizon)).pointSpeed;
         for (const BodyGap& g : gaps)
             if (g.b.kind == BodyKind::Wall && std::abs(m.field.walls[g.b.index].normal.x() + 1.0) < 1e-12)
                 return std::make_pair(g, pointSpeed);

@@ -121,12 +121,11 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     std::vector<MotionBound>& bounds = scratch.bounds;
     bounds.assign(n + 1, MotionBound{});
     double fastest = 0.0;  // m/s
-    ModeProgress progress;
-    progress.T = NAN;  // fits nothing yet
+    ModeProgress progress;  // shared by robots of the same rates
     for (std::size_t i = 0; i < n; ++i) {
         if (!movingRobots[i]) continue;
-        if (!progress.fits(model.robots[i], horizon)) progress = modeProgress(model.robots[i], horizon);
-        bounds[i] = robotMotionBound(model.robots[i], state.robots[i], state.voltages[i], model.sides[i], progress);
+        bounds[i] = robotMotionBound(model.robots[i], state.robots[i], state.voltages[i], model.sides[i],
+                                     modeProgressFor(model.robots[i], horizon, progress));
         fastest = std::max(fastest, bounds[i].pointSpeed);
     }
     if (ballMoving) bounds[n] = ballMotionBound(state.ball);

@@ -16,7 +16,6 @@ namespace vssim {
 // step well inside their stability regions; beyond that nothing is promised.
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon) {
     ModeProgress progress;
-    progress.T = NAN;  // fits nothing
     return robotTravelForIntegrator(model, state, i, horizon, progress);
 }
 
@@ -24,8 +23,8 @@ double robotTravelForIntegrator(const WorldModel& model, const WorldState& state
                                 ModeProgress& progress) {
     const RobotModel& robot = model.robots[i];
     if (model.settings.integrator == Integrator::Exact) {
-        if (!progress.fits(robot, horizon)) progress = modeProgress(robot, horizon);
-        return robotTravelBound(robot, state.robots[i], state.voltages[i], progress, 0.0);
+        return robotTravelBound(robot, state.robots[i], state.voltages[i], modeProgressFor(robot, horizon, progress),
+                                0.0);
     }
     if (!(horizon * robot.fastestRate <= 2.0)) return INFINITY;
     return 2.0 * velocityBound(robot, state.robots[i], state.voltages[i])(0) * horizon;
@@ -44,8 +43,7 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     const std::size_t n = state.robots.size();
     out.robotTravel.resize(n);
     double farthest = 0.0;  // m
-    ModeProgress progress;
-    progress.T = NAN;  // fits nothing yet
+    ModeProgress progress;  // shared by robots of the same rates
     for (std::size_t i = 0; i < n; ++i) {
         out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon, progress);
         farthest = std::max(farthest, out.robotTravel[i]);

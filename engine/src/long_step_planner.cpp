@@ -309,13 +309,12 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     // again at every instant it reaches; the bound along the gap's normal at
     // the step's start holds from the start only, enough to skip a pair that
     // cannot close within the step at all.
-    ModeProgress progress;
-    progress.T = NAN;  // fits nothing yet
+    ModeProgress progress;  // shared by robots of the same rates
     auto boundWithinStep = [&](const BodyRef& body) {
         if (body.kind == BodyKind::Ball) return ballMotionBound(stepStartBall_);
         const int i = body.index;
-        if (!progress.fits(model_.robots[i], dt)) progress = modeProgress(model_.robots[i], dt);
-        return robotMotionBound(model_.robots[i], stepStartRobots_[i], state_.voltages[i], model_.sides[i], progress);
+        return robotMotionBound(model_.robots[i], stepStartRobots_[i], state_.voltages[i], model_.sides[i],
+                                modeProgressFor(model_.robots[i], dt, progress));
     };
     searched_.assign(gaps_.size(), 0);
     for (std::size_t k = 0; k < gaps_.size(); ++k) {

@@ -113,6 +113,11 @@ ModeProgress modeProgress(const RobotModel& model, double T) {
     return p;
 }
 
+const ModeProgress& modeProgressFor(const RobotModel& model, double T, ModeProgress& cache) {
+    if (!cache.fits(model, T)) cache = modeProgress(model, T);
+    return cache;
+}
+
 Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
                                     const ModeProgress& progress) {
     const Eigen::Vector2d u0(state.v, state.omega);
@@ -126,16 +131,6 @@ Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& s
     }
     if (!bound.allFinite()) return Eigen::Vector2d::Constant(INFINITY);
     return bound;
-}
-
-Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
-    return velocityBoundWithin(model, state, e, modeProgress(model, T));
-}
-
-double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T) {
-    const Eigen::Vector2d bound = velocityBoundWithin(model, state, e, T);
-    const double speed = bound(0) + boundingRadius(model.params.side) * bound(1);
-    return std::isfinite(speed) ? speed : INFINITY;
 }
 
 double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e,

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 #include "vssim/robot_params.h"
 #include "vssim/robot_state.h"
@@ -62,7 +63,7 @@ double pointSpeedBound(const RobotModel& model, const RobotState& state, const V
 // below need of T. Computed once, it serves every robot of the same rates
 // (a team of one robot: every robot of a default scene) for the same T.
 struct ModeProgress {
-    double T = 0.0;                   // s
+    double T = NAN;                   // s (NaN until computed: then it fits nothing)
     std::array<double, 2> rate{};     // the rates it is for, 1/s
     std::array<double, 2> covered{};  // 1 - e^(rate_k T), in [0, 1)
     bool fits(const RobotModel& model, double horizon) const {
@@ -70,19 +71,18 @@ struct ModeProgress {
     }
 };
 ModeProgress modeProgress(const RobotModel& model, double T);
+// `cache`, computed again for this model's rates and T only when it does
+// not fit them already (for a loop over robots).
+const ModeProgress& modeProgressFor(const RobotModel& model, double T, ModeProgress& cache);
 
-// Bounds on |v(t)| and |w(t)| over [0, T] only (m/s, rad/s): each mode's
-// share lies between its start and where it is at T, so |u_j(t)| <=
-// sum_k max(|(P_k u0)_j|, |(P_k u(T))_j|) for t <= T. Much tighter than
-// velocityBound over a millisecond for a robot far from its steady state
-// (under new voltages). Infinite when the state or the model is not finite.
-Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
-// The same with the modes' progress over T already computed (progress.fits(model, T)).
+// Bounds on |v(t)| and |w(t)| over [0, T] only (m/s, rad/s), T =
+// progress.T (progress.fits(model, T)): each mode's share lies between its
+// start and where it is at T, so |u_j(t)| <= sum_k max(|(P_k u0)_j|,
+// |(P_k u(T))_j|) for t <= T. Much tighter than velocityBound over a
+// millisecond for a robot far from its steady state (under new voltages).
+// Infinite when the state or the model is not finite.
 Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
                                     const ModeProgress& progress);
-// The point speed bound over [0, T] only, |v| + |w| s/sqrt2 from
-// velocityBoundWithin, m/s; infinite when either bound is.
-double pointSpeedBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e, double T);
 
 // A bound on how far a point of the robot at distance `arm` (m) from its
 // centre can move within T seconds while the voltages stay e and nothing
