@@ -316,21 +316,15 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         return robotMotionBound(model_.robots[i], stepStartRobots_[i], state_.voltages[i], model_.sides[i],
                                 modeProgressFor(model_.robots[i], dt, progress));
     };
-    searched_.assign(gaps_.size(), 0);
-    for (std::size_t k = 0; k < gaps_.size(); ++k) {
-        BodyGap& g = gaps_[k];
-        const MotionBound a = boundWithinStep(g.a);
-        const MotionBound b = g.b.kind == BodyKind::Wall ? MotionBound{} : boundWithinStep(g.b);
-        const MotionBound* other = g.b.kind == BodyKind::Wall ? nullptr : &b;
-        g.closing = a.pointSpeed + b.pointSpeed;
-        const double alongNormal = closingSpeed({g.gap, false, g.normal, g.point}, a, other, g.closing);
-        searched_[k] = !(g.gap > alongNormal * dt);  // else it cannot close within the step
-    }
     double first = dt;  // s into the step
     bool touched = false;
-    for (std::size_t k = 0; k < gaps_.size(); ++k) {
-        const BodyGap& g = gaps_[k];
-        if (!searched_[k]) continue;
+    for (BodyGap& g : gaps_) {
+        const bool wall = g.b.kind == BodyKind::Wall;
+        const MotionBound boundA = boundWithinStep(g.a), boundB = wall ? MotionBound{} : boundWithinStep(g.b);
+        g.closing = boundA.pointSpeed + boundB.pointSpeed;  // (read again below, once a contact is found)
+        const double alongNormal =
+            closingSpeed({g.gap, false, g.normal, g.point}, boundA, wall ? nullptr : &boundB, g.closing);
+        if (g.gap > alongNormal * dt) continue;  // cannot close within the step
         // Nor when the gaps at both ends are too wide for the step: a contact
         // at s would need gap(0) <= S s and gap(h) <= S (h - s). (Most steps
         // searched are near misses: a robot along a wall, two passing by.)

@@ -276,7 +276,6 @@ private:
     WorldState beforeStep_;            // to undo a step that reached a frozen body
     bool forceOrdinaryStep_ = false;   // the next step (with time_of_impact: stretch) takes every body
     std::vector<BodyGap> gaps_;        // gapSafeSteps' gaps, used by impactStep
-    std::vector<char> searched_;       // impactStep: per gap of gaps_, whether it may close within the step
     std::vector<char> constrained_;    // gapSafeSteps': per body, a gap of it may close before the stretch ends
     std::vector<char> catchUp_;        // catchUpFrozen's robots of one freezing step
     std::vector<double> stepReach_;    // freezeUnconstrained's reach + travel per stepping body, m
