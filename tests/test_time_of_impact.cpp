@@ -285,7 +285,7 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
         state.voltages = {e};
         std::vector<BodyGap> gaps;
         BodyGapScratch scratch;
-        findBodyGaps(m, state, {1}, false, horizon, gaps, scratch);
+        findBodyGaps(m, state, std::vector<int>{0}, false, horizon, gaps, scratch);  // robot 0 moving
         const double pointSpeed = robotMotionBound(model, r, e, side, modeProgress(model, horizon)).pointSpeed;
         for (const BodyGap& g : gaps)
             if (g.b.kind == BodyKind::Wall && std::abs(m.field.walls[g.b.index].normal.x() + 1.0) < 1e-12)

@@ -114,21 +114,20 @@ double closingSpeed(const Separation& s, const MotionBound& a, const MotionBound
     return closing < pointSpeeds ? closing : pointSpeeds;  // (NaN: the point speeds)
 }
 
-void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<char>& movingRobots,
+void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<int>& movingRobots,
                   bool ballMoving, double horizon, std::vector<BodyGap>& out, BodyGapScratch& scratch) {
     out.clear();
     const std::size_t n = state.robots.size();
     std::vector<MotionBound>& bounds = scratch.bounds;
-    bounds.assign(n + 1, MotionBound{});
+    bounds.resize(n + 1);  // (only the moving bodies' entries are set and read)
     double fastest = 0.0;  // m/s
     ModeProgress progress;  // shared by robots of the same rates
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!movingRobots[i]) continue;
+    for (const int i : movingRobots) {
         bounds[i] = robotMotionBound(model.robots[i], state.robots[i], state.voltages[i], model.sides[i],
                                      modeProgressFor(model.robots[i], horizon, progress));
         fastest = std::max(fastest, bounds[i].pointSpeed);
     }
-    if (ballMoving) bounds[n] = ballMotionBound(state.ball);
+    bounds[n] = ballMoving ? ballMotionBound(state.ball) : MotionBound{};
     auto speed = [&](std::size_t i) { return bounds[i].pointSpeed; };
     auto reach = [&](std::size_t i) { return i < n ? boundingRadius(model.sides[i]) : model.ball.radius; };
     auto centre = [&](std::size_t i) {
@@ -148,10 +147,7 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     // Robot pairs, both moving (a frozen body is out of every moving one's
     // reach: long_step_planner.cpp): among the moving robots only, so that a
     // few moving among a thousand cost little. In index order either way.
-    std::vector<int>& moving = scratch.moving;
-    moving.clear();
-    for (std::size_t i = 0; i < n; ++i)
-        if (movingRobots[i]) moving.push_back(int(i));
+    const std::vector<int>& moving = movingRobots;
     scratch.pairs.clear();
     if (model.settings.broad_phase && static_cast<int>(moving.size()) >= kBroadPhaseMinRobots) {
         scratch.movingPoses.clear();
@@ -168,14 +164,12 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     }
     for (const auto& [i, j] : scratch.pairs) offer(std::size_t(i), std::size_t(j));
     if (ballMoving)
-        for (std::size_t i = 0; i < n; ++i)
-            if (movingRobots[i]) offer(n, i);
+        for (const int i : moving) offer(n, std::size_t(i));
     // Walls: skipped at once for a body clear of all of them by its reach and travel.
-    for (std::size_t i = 0; i <= n; ++i) {
-        if (i < n ? !movingRobots[i] : !ballMoving) continue;
+    auto offerWalls = [&](std::size_t i) {
         const double travel = speed(i) * horizon;
         const Eigen::Vector2d c = centre(i);
-        if (clearOfWalls(model.field, c, reach(i) + travel)) continue;
+        if (clearOfWalls(model.field, c, reach(i) + travel)) return;
         for (std::size_t w = 0; w < model.field.walls.size(); ++w) {
             const Wall& wall = model.field.walls[w];
             // Far in front of the wall's line (cheap), or far from the segment.
@@ -185,7 +179,9 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
             const Separation s = separationBetween(model, ref(i), pose(i), wallRef, RobotState{});
             out.push_back({ref(i), wallRef, s.distance, closingSpeed(s, bounds[i], nullptr, speed(i)), s.normal, s.point});
         }
-    }
+    };
+    for (const int i : moving) offerWalls(std::size_t(i));
+    if (ballMoving) offerWalls(n);
 }
 
 }  // namespace vssim

@@ -162,13 +162,35 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
     const std::vector<RobotState>& robots = *bodies.robots;
     const std::vector<double>& sides = *bodies.sides;
     const int n = static_cast<int>(robots.size());
-    auto free = [&bodies](int i) { return bodies.freeRobots && (*bodies.freeRobots)[i]; };
+    auto free = [&bodies](int i) {
+        return !bodies.listedRobots && bodies.freeRobots && (*bodies.freeRobots)[i];  // (listed: none)
+    };
     std::vector<Contact> contacts;
     auto testPair = [&](int i, int j) {
         if (free(i) || free(j)) return;
         if (auto k = robotRobotContact(robots[i], sides[i], i, robots[j], sides[j], j)) contacts.push_back(*k);
     };
-    if (bodies.broadPhase) {
+    if (bodies.listedRobots) {
+        // Among the listed robots only: their pairs come out sorted either
+        // way (candidatePairs sorts; the list increases), as from all robots.
+        const std::vector<int>& listed = *bodies.listedRobots;
+        const int m = static_cast<int>(listed.size());
+        if (bodies.broadPhase && m >= kBroadPhaseMinRobots) {
+            std::vector<RobotState> poses;
+            std::vector<double> listedSides;
+            for (const int i : listed) {
+                poses.push_back(robots[i]);
+                listedSides.push_back(sides[i]);
+            }
+            BroadPhaseScratch fresh;
+            std::vector<std::pair<int, int>> pairs;
+            candidatePairs(poses, listedSides, 0.0, fresh, pairs);
+            for (const auto& [a, b] : pairs) testPair(listed[a], listed[b]);
+        } else {
+            for (int a = 0; a < m; ++a)
+                for (int b = a + 1; b < m; ++b) testPair(listed[a], listed[b]);
+        }
+    } else if (bodies.broadPhase) {
         BroadPhaseScratch fresh;
         std::vector<std::pair<int, int>> pairs;
         candidatePairs(robots, sides, 0.0, bodies.broadPhaseScratch ? *bodies.broadPhaseScratch : fresh, pairs);
@@ -178,10 +200,16 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
             for (int j = i + 1; j < n; ++j) testPair(i, j);
     }
     if (bodies.ball && !bodies.freeBall) {
-        for (int i = 0; i < n; ++i)
-            if (!free(i))
-                if (auto k = robotBallContact(robots[i], sides[i], i, *bodies.ball, bodies.ballRadius))
-                    contacts.push_back(*k);
+        auto testBall = [&](int i) {
+            if (auto k = robotBallContact(robots[i], sides[i], i, *bodies.ball, bodies.ballRadius))
+                contacts.push_back(*k);
+        };
+        if (bodies.listedRobots) {
+            for (const int i : *bodies.listedRobots) testBall(i);
+        } else {
+            for (int i = 0; i < n; ++i)
+                if (!free(i)) testBall(i);
+        }
     }
     appendWallContacts(field, bodies, contacts);
     return contacts;
@@ -343,9 +371,14 @@ void appendRobotWallContacts(const Field& field, const RobotState& robot, double
 
 void appendWallContacts(const Field& field, const BodiesView& bodies, std::vector<Contact>& contacts) {
     const std::vector<RobotState>& robots = *bodies.robots;
-    for (int i = 0; i < static_cast<int>(robots.size()); ++i) {
-        if (bodies.freeRobots && (*bodies.freeRobots)[i]) continue;
-        appendRobotWallContacts(field, robots[i], (*bodies.sides)[i], i, contacts);
+    if (bodies.listedRobots) {
+        for (const int i : *bodies.listedRobots)
+            appendRobotWallContacts(field, robots[i], (*bodies.sides)[i], i, contacts);
+    } else {
+        for (int i = 0; i < static_cast<int>(robots.size()); ++i) {
+            if (bodies.freeRobots && (*bodies.freeRobots)[i]) continue;
+            appendRobotWallContacts(field, robots[i], (*bodies.sides)[i], i, contacts);
+        }
     }
     if (bodies.ball && !bodies.freeBall) appendBallWallContacts(field, *bodies.ball, bodies.ballRadius, contacts);
 }

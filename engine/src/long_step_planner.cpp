@@ -78,9 +78,8 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
     // collision may have sped it up), moves at most its travel bound over
     // the remaining time. Both discs must stay apart.
     const std::size_t n = state_.robots.size();
-    if (start.byX.empty()) return true;  // nobody frozen
-    for (std::size_t j = 0; j <= n; ++j) {
-        if (start.frozen[j]) continue;
+    if (start.byX.empty() && claims_.empty()) return true;  // nobody frozen, no other group
+    auto stillApart = [&](std::size_t j) {
         const Eigen::Vector2d pj = bodyCentre(j);
         const double pjX = pj.x(), pjY = pj.y();
         const double jTravel = bodyTravel(j, remaining) + 2.0 * bodySpeed(j) * margin;
@@ -96,22 +95,199 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
             const double distance = std::sqrt(dx * dx + dy * dy);
             if (!(distance - bodyReach(i) - bodyReach(j) > start.travel[i] + jTravel)) return false;
         }
+        return claims_.empty() || clearOfOtherGroups(pjX, pjY, bodyReach(j) + jTravel);
+    };
+    for (const int j : stepping_)
+        if (!stillApart(std::size_t(j))) return false;
+    return start.frozen[n] != kStepping || stillApart(n);
+}
+
+bool Simulation::clearOfOtherGroups(double x, double y, double reach) const {
+    auto clear = [&](const Claim& c) {
+        return c.group == currentGroup_ || std::hypot(x - c.x, y - c.y) - c.reach > reach;  // (NaN: not clear)
+    };
+    const double window = reach + claimsWidest_;  // m
+    auto k =
+        std::lower_bound(claims_.begin(), claims_.end(), x - window, [](const Claim& c, double v) { return c.x < v; });
+    for (; k != claims_.end() && k->x <= x + window; ++k)
+        if (!clear(*k)) return false;
+    return std::all_of(contactClaims_.begin(), contactClaims_.end(), clear);
+}
+
+bool Simulation::apartAfterContact(const FrozenStart& start, double remaining, double margin) {
+    if (!frozenStillSafe(start, remaining, margin)) return false;
+    if (currentGroup_ < 0) return true;
+    // The contact may have changed the group's velocities: its bodies are
+    // now bounded by discs around where they are (those of frozenStillSafe,
+    // which the other groups were just checked against), which the groups
+    // after this one must keep clear of as well. And a body sped up to need
+    // sub-steps would make the steps differ from the whole world's.
+    const std::size_t n = state_.robots.size();
+    const std::size_t claimed = contactClaims_.size();
+    auto claim = [&](std::size_t j) {
+        const double speed = bodySpeed(j);
+        if (!(speed <= groupSpeedLimit_)) return false;
+        const Eigen::Vector2d c = bodyCentre(j);
+        contactClaims_.push_back(
+            {c.x(), c.y(), bodyReach(j) + bodyTravel(j, remaining) + 2.0 * speed * margin, int(j), currentGroup_});
+        return true;
+    };
+    bool slow = std::all_of(stepping_.begin(), stepping_.end(), [&](int j) { return claim(std::size_t(j)); });
+    if (slow && start.frozen[n] == kStepping) slow = claim(n);
+    if (!slow) contactClaims_.resize(claimed);
+    return slow;
+}
+
+int Simulation::formGroups(const FrozenStart& start, double smallest) {
+    const std::size_t n = state_.robots.size();
+    const double dt = model_.settings.dt;
+    groupSpeedLimit_ = kMaxTravelFraction * smallest / dt;  // m/s (world.h: sub-steps)
+    if (!(start.fastest <= groupSpeedLimit_)) return 0;
+    // Each stepping body's disc (start.travel: its travel over the stretch,
+    // from findFreeBodies), with the margin of freezeUnconstrained; by x.
+    stepReach_.resize(n + 1);
+    steppingByX_.clear();
+    claims_.clear();
+    contactClaims_.clear();
+    double widest = 0.0;  // m
+    auto disc = [&](std::size_t j) {
+        const double speed = bodySpeed(j), travel = start.travel[j];
+        const Eigen::Vector2d c = bodyCentre(j);
+        if (!(speed <= groupSpeedLimit_) || !std::isfinite(travel) || !c.allFinite()) return false;
+        stepReach_[j] = bodyReach(j) + travel + 2.0 * speed * dt;
+        widest = std::max(widest, stepReach_[j]);
+        steppingByX_.emplace_back(c.x(), int(j));
+        claims_.push_back({c.x(), c.y(), bodyReach(j) + travel, int(j), -1});
+        return true;
+    };
+    for (const int i : stepping_)
+        if (!disc(std::size_t(i))) return 0;
+    if (start.frozen[n] == kStepping && !disc(n)) return 0;
+    const std::size_t m = steppingByX_.size();
+    if (m < 2) return 0;
+    // Overlapping discs join (a union-find whose roots are each set's lowest
+    // body index): a sweep along x.
+    std::sort(steppingByX_.begin(), steppingByX_.end());
+    groupRoot_.resize(n + 1);
+    for (const auto& entry : steppingByX_) groupRoot_[entry.second] = entry.second;
+    auto root = [this](int b) {
+        while (groupRoot_[b] != b) b = groupRoot_[b] = groupRoot_[groupRoot_[b]];
+        return b;
+    };
+    for (std::size_t a = 0; a < m; ++a) {
+        const int i = steppingByX_[a].second;
+        const Eigen::Vector2d ci = bodyCentre(i);
+        for (std::size_t b = a + 1; b < m && steppingByX_[b].first - steppingByX_[a].first <= stepReach_[i] + widest;
+             ++b) {
+            const int j = steppingByX_[b].second;
+            if ((ci - bodyCentre(j)).norm() > stepReach_[i] + stepReach_[j]) continue;
+            const int ri = root(i), rj = root(j);
+            if (ri != rj) groupRoot_[std::max(ri, rj)] = std::min(ri, rj);
+        }
     }
-    return true;
+    groupOf_.assign(n + 1, -1);
+    int groups = 0;
+    auto number = [&](std::size_t j) {
+        const int r = root(int(j));
+        groupOf_[j] = r == int(j) ? groups++ : groupOf_[r];  // (a root comes before its set's other bodies)
+    };
+    for (const int i : stepping_) number(std::size_t(i));
+    if (start.frozen[n] == kStepping) number(n);
+    if (groups < 2) {
+        claims_.clear();
+        return 0;
+    }
+    // Each group's robots, increasing (a counting sort by group).
+    groupFirst_.assign(std::size_t(groups) + 1, 0);
+    for (const int i : stepping_) ++groupFirst_[std::size_t(groupOf_[i]) + 1];
+    for (int g = 0; g < groups; ++g) groupFirst_[g + 1] += groupFirst_[g];
+    groupMembers_.resize(stepping_.size());
+    groupFill_.assign(groupFirst_.begin(), groupFirst_.end() - 1);
+    for (const int i : stepping_) groupMembers_[groupFill_[groupOf_[i]]++] = i;
+    claimsWidest_ = 0.0;
+    for (Claim& c : claims_) {
+        c.group = groupOf_[c.body];
+        claimsWidest_ = std::max(claimsWidest_, c.reach);
+    }
+    std::sort(claims_.begin(), claims_.end(),
+              [](const Claim& a, const Claim& b) { return a.x < b.x || (a.x == b.x && a.body < b.body); });
+    return groups;
+}
+
+bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepOptions& options,
+                              AdvanceReport& report) {
+    const std::size_t n = state_.robots.size();
+    const int groups = formGroups(start, loop.smallest);
+    if (groups < 2) return false;
+    // What an undone stretch goes back to.
+    stretchStart_ = state_;
+    frozenBefore_ = start;
+    steppingBefore_ = steppingRobots_;
+    frozenRobotsBefore_ = frozenRobots_;
+    steppingListBefore_ = stepping_;
+    const AdvanceReport reportBefore = report;
+    const StepOptions optionsBefore = options;
+    // Everybody stands aside, then each group steps in turn (those frozen
+    // within the stretch stay so: they catch up at its end).
+    auto standAside = [&] {
+        for (const int i : stepping_) {
+            start.frozen[i] = kOtherGroup;
+            steppingRobots_[i] = 0;
+            frozenRobots_[i] = 1;
+        }
+        if (start.frozen[n] == kStepping) start.frozen[n] = kOtherGroup;
+    };
+    standAside();
+    bool apart = true;
+    for (int g = 0; g < groups && apart; ++g) {
+        currentGroup_ = g;
+        stepping_.assign(groupMembers_.begin() + groupFirst_[g], groupMembers_.begin() + groupFirst_[g + 1]);
+        for (const int i : stepping_) {
+            start.frozen[i] = kStepping;
+            steppingRobots_[i] = 1;
+            frozenRobots_[i] = 0;
+        }
+        if (groupOf_[n] == g) start.frozen[n] = kStepping;
+        options.freeBall = start.frozen[n] != kStepping;
+        bool unsafe = false;
+        stepThroughStretch(start, loop, options, report, unsafe);
+        apart = !unsafe;
+        standAside();
+    }
+    stepping_.clear();
+    currentGroup_ = -1;
+    claims_.clear();
+    contactClaims_.clear();
+    if (apart) {
+        options.freeBall = start.frozen[n] == kFrozen;
+        ++report.groupedStretches;
+        return true;
+    }
+    state_ = stretchStart_;
+    start = frozenBefore_;
+    steppingRobots_ = steppingBefore_;
+    frozenRobots_ = frozenRobotsBefore_;
+    stepping_ = steppingListBefore_;
+    report = reportBefore;
+    options = optionsBefore;
+    ++report.groupFallbacks;
+    return false;
 }
 
 void Simulation::frozenSpeeds(const FrozenStart& start, std::int64_t done, StepOptions& options) {
     const std::size_t n = state_.robots.size();
     const double dt = model_.settings.dt;
     frozenSpeed_.assign(n, 0.0);
+    options.frozenRobotFastest = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-        if (!start.frozen[i]) continue;
+        if (start.frozen[i] != kFrozen) continue;
         const double elapsed = static_cast<double>(done - start.since[i]) * dt;  // s since it froze
         RobotState now = start.robots[i];
         const Eigen::Vector2d u = velocityAfter(model_.robots[i], now, state_.voltages[i], elapsed);
         now.v = u(0);
         now.omega = u(1);
         frozenSpeed_[i] = pointSpeedBound(model_.robots[i], now, state_.voltages[i]);
+        options.frozenRobotFastest = std::max(options.frozenRobotFastest, frozenSpeed_[i]);
     }
     const double ballDecay = model_.ball.friction / model_.ball.mass;  // 1/s
     const double ballElapsed = static_cast<double>(done - start.since[n]) * dt;
@@ -137,18 +313,20 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
     const std::size_t n = state_.robots.size();
     const double dt = model_.settings.dt;
     const double remaining = static_cast<double>(stretch - done) * dt;  // s
-    bool candidates = false;
-    for (std::size_t b = 0; b <= n && !candidates; ++b) candidates = !start.frozen[b] && !constrained_[b];
-    if (!candidates) return 0;
+    // The stepping bodies: robots by index, then the ball (as all loops here).
+    steppingBodies_.assign(stepping_.begin(), stepping_.end());
+    if (start.frozen[n] == kStepping) steppingBodies_.push_back(int(n));
+    if (std::all_of(steppingBodies_.begin(), steppingBodies_.end(), [this](int b) { return constrained_[b] != 0; }))
+        return 0;  // no candidate
     // Each stepping body's reach plus travel (with the margin), once, and
     // the stepping bodies by x: a candidate looks only at those within the
     // widest such reach along x (a thousand robots would otherwise cost a
     // million pairs a round).
-    stepReach_.assign(n + 1, 0.0);
+    stepReach_.resize(n + 1);
     steppingByX_.clear();
     double widest = 0.0;  // m
-    for (std::size_t j = 0; j <= n; ++j) {
-        if (start.frozen[j]) continue;
+    for (const int body : steppingBodies_) {
+        const std::size_t j = std::size_t(body);
         if (std::isnan(bodyCentre(j).x())) return 0;  // (nothing to sort by; such a world is not planned on)
         stepReach_[j] = bodyReach(j) + bodyTravel(j, remaining) + 2.0 * bodySpeed(j) * dt;
         widest = std::max(widest, stepReach_[j]);
@@ -157,8 +335,9 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
     std::sort(steppingByX_.begin(), steppingByX_.end());
     int frozen = 0;
     newlyFrozen_.clear();
-    for (std::size_t b = 0; b <= n; ++b) {
-        if (start.frozen[b] || constrained_[b]) continue;
+    for (const int body : steppingBodies_) {
+        const std::size_t b = std::size_t(body);
+        if (constrained_[b]) continue;
         // The discs of frozenStillSafe, with its margin of a step: a body
         // within reach of a stepping one stays stepping (a contact of that
         // one would undo the step and plan again with everybody).
@@ -173,7 +352,7 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
             clear = (c - bodyCentre(j)).norm() - bodyReach(b) > bTravel + stepReach_[j];
         }
         if (!clear) continue;
-        start.frozen[b] = 1;
+        start.frozen[b] = kFrozen;
         newlyFrozen_.push_back(static_cast<int>(b));
         start.since[b] = done;
         start.x[b] = bodyCentre(b).x();
@@ -191,6 +370,9 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         ++frozen;
     }
     if (frozen == 0) return 0;
+    stepping_.erase(
+        std::remove_if(stepping_.begin(), stepping_.end(), [&start](int i) { return start.frozen[i] != 0; }),
+        stepping_.end());
     addToFrozenOrder(start, newlyFrozen_);
     // Their gaps are no longer searched (impactStep reads the stepping bodies' starts only).
     gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
@@ -211,12 +393,12 @@ void Simulation::catchUpFrozen(const FrozenStart& start, std::int64_t done, bool
     // Those frozen at the stretch's start together (as ever, even for no
     // time), then each of those frozen later from its own step.
     catchUp_.assign(n, 0);
-    for (std::size_t i = 0; i < n; ++i) catchUp_[i] = start.frozen[i] && start.since[i] == 0;
+    for (std::size_t i = 0; i < n; ++i) catchUp_[i] = start.frozen[i] == kFrozen && start.since[i] == 0;
     advanceBodies(static_cast<double>(done) * dt, &catchUp_, ballFrozen && start.since[n] == 0);
     if (ballFrozen && start.since[n] > 0 && done > start.since[n])
         advanceBody(n, static_cast<double>(done - start.since[n]) * dt);
     for (std::size_t i = 0; i < n; ++i)
-        if (start.frozen[i] && start.since[i] > 0 && done > start.since[i])
+        if (start.frozen[i] == kFrozen && start.since[i] > 0 && done > start.since[i])
             advanceBody(i, static_cast<double>(done - start.since[i]) * dt);
 }
 
@@ -239,14 +421,12 @@ std::int64_t Simulation::steppingFreeSteps(const FrozenStart& start, std::int64_
 
 void Simulation::saveStepping(bool ballMoving) {
     stepStartRobots_.resize(state_.robots.size());
-    for (std::size_t i = 0; i < state_.robots.size(); ++i)
-        if (steppingRobots_[i]) stepStartRobots_[i] = state_.robots[i];
+    for (const int i : stepping_) stepStartRobots_[i] = state_.robots[i];
     if (ballMoving) stepStartBall_ = state_.ball;
 }
 
 void Simulation::restoreStepping(bool ballMoving) {
-    for (std::size_t i = 0; i < state_.robots.size(); ++i)
-        if (steppingRobots_[i]) state_.robots[i] = stepStartRobots_[i];
+    for (const int i : stepping_) state_.robots[i] = stepStartRobots_[i];
     if (ballMoving) state_.ball = stepStartBall_;
 }
 
@@ -266,10 +446,11 @@ std::optional<Contact> Simulation::touchingContact(const BodyGap& g) const {
 
 std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
     const double dt = model_.settings.dt;
-    findBodyGaps(model_, state_, steppingRobots_, ballMoving, static_cast<double>(remaining) * dt, gaps_,
-                 gapScratch_);
+    findBodyGaps(model_, state_, stepping_, ballMoving, static_cast<double>(remaining) * dt, gaps_, gapScratch_);
     const std::size_t n = state_.robots.size();
-    constrained_.assign(n + 1, 0);
+    constrained_.resize(n + 1);  // (read for the stepping bodies only)
+    for (const int i : stepping_) constrained_[i] = 0;
+    constrained_[n] = 0;
     std::int64_t steps = remaining;
     for (const BodyGap& g : gaps_) {
         if (!(g.gap > kContactSkin)) return -1;  // touching now (or NaN)
@@ -288,11 +469,12 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     const double dt = model_.settings.dt;
     const std::size_t n = state_.robots.size();
     saveStepping(ballMoving);
-    advanceBodies(dt, &steppingRobots_, ballMoving);  // the exact end of the step, no contacts yet
+    advanceListed(dt, stepping_, ballMoving);  // the exact end of the step, no contacts yet
     // The first instant within the step at which a gap closes, on the paths
     // between the step's two exact ends.
     paths_.resize(n);
-    pathReady_.assign(n, 0);
+    pathReady_.resize(n);
+    for (const int i : stepping_) pathReady_[i] = 0;
     auto poseAt = [this](const BodyRef& body, double t) {
         if (body.kind == BodyKind::Robot) return paths_[body.index].at(t);
         if (body.kind == BodyKind::Ball) {
@@ -373,7 +555,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     // gap that has closed is a contact, answered by the collision model as
     // at any contact (its depth is zero: nothing to separate).
     restoreStepping(ballMoving);
-    if (first > 0.0) advanceBodies(first, &steppingRobots_, ballMoving);
+    if (first > 0.0) advanceListed(first, stepping_, ballMoving);
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
         if (g.gap > g.closing * dt) continue;
@@ -407,6 +589,109 @@ int Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
         if (!(report.firstImpact <= now)) report.firstImpact = now;
     }
     return answered;
+}
+
+std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoop& loop, StepOptions& options,
+                                            AdvanceReport& report, bool& unsafe) {
+    const double dt = model_.settings.dt;
+    const std::int64_t stretch = loop.stretch;
+    const bool skip = loop.skip, impacts = loop.impacts, nobodyFrozen = loop.nobodyFrozen;
+    const double smallest = loop.smallest;
+    unsafe = false;
+    std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
+    bool touching = false;
+    while (done < stretch) {
+        int answered = 0;  // touching pairs answered before this step (their velocities changed)
+        // A step that may sub-step needs the frozen bodies' speeds now.
+        const auto prepareStep = [&] {
+            if (!skip || start.fastest * dt <= kMaxTravelFraction * smallest) return;
+            frozenSpeeds(start, done, options);
+        };
+        if (impacts) {
+            // Conservative advancement (time_of_impact.h): as many whole
+            // steps as no gap can close in, in one step; when a gap may
+            // close within the next step, that step finds the instant.
+            const std::int64_t steps = gapSafeSteps(stretch - done, !options.freeBall);
+            // (Stepping bodies that can no longer touch anything before the
+            // stretch ends freeze, as if they had at its start.)
+            // Not in the step after a replan, in which nobody is frozen (it
+            // must make progress), nor for a last step (nothing to gain).
+            if (steps >= 0 && !nobodyFrozen && stretch - done >= 2)
+                report.freezes += freezeUnconstrained(start, done, stretch, options);
+            const bool ballMoving = !options.freeBall;
+            if (steps >= 1) {
+                advanceListed(static_cast<double>(steps) * dt, stepping_, ballMoving);
+                done += steps;
+                ++report.longSteps;
+                continue;
+            }
+            if (steps == 0) {
+                prepareStep();
+                const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
+                const ImpactStep outcome = impactStep(ballMoving, stepStart, options, report);
+                if (outcome == ImpactStep::Free) {
+                    ++done;
+                    ++report.longSteps;
+                    continue;
+                }
+                if (outcome == ImpactStep::Contact) {
+                    if (!apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+                        restoreStepping(ballMoving);  // as below: again with everybody
+                        unsafe = true;
+                        break;
+                    }
+                    ++done;  // (the next step is on the grid while the bodies touch: gapSafeSteps)
+                    continue;
+                }
+            }
+            // Touching now, or a pass the search could not settle: a step on
+            // the grid, after answering the touching pairs that approach.
+            if (steps < 0) answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
+        } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {
+            // The stepping bodies, too, may be free for a while (a robot
+            // nearing a wall, not yet at it): a long step of a power of two
+            // times dt for them. Not while touching; after a failed try, wait
+            // (twice as long after each failure in a row).
+            const std::int64_t steps = steppingFreeSteps(start, stretch - done);
+            if (steps >= 2) {
+                advanceListed(static_cast<double>(steps) * dt, stepping_, !options.freeBall);
+                done += steps;
+                ++report.longSteps;
+                wait = kFirstRetryWait;
+                continue;
+            }
+            nextTry = done + wait;
+            wait = std::min(2 * wait, kLongestRetryWait);
+        }
+        prepareStep();
+        // (With long steps only the stepping bodies move in it.)
+        if (skip)
+            saveStepping(!options.freeBall);
+        else
+            beforeStep_ = state_;
+        const StepReport r = stepWorld(model_, state_, dt, options);
+        // A contact may have sent a stepping body towards a free one (the
+        // contact tests skip free bodies): then undo this step, bring the
+        // free bodies to the present and take the step again with
+        // everybody. The margin covers what a body can move within the
+        // step after a contact.
+        // (So may the touching pairs answered before it, even when the
+        // step itself then finds no contact.)
+        if ((r.contacts > 0 || answered > 0) &&
+            !apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+            if (skip)
+                restoreStepping(!options.freeBall);
+            else
+                state_ = beforeStep_;
+            unsafe = true;
+            break;
+        }
+        report.contacts += r.contacts;
+        ++report.stepCalls;
+        ++done;
+        touching = r.contacts > 0;
+    }
+    return done;
 }
 
 AdvanceReport Simulation::advanceTo(std::int64_t target) {
@@ -526,99 +811,30 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         frozenSpeed_.assign(n, 0.0);
         options.frozenBallSpeed = 0.0;
         steppingRobots_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) steppingRobots_[i] = !frozenRobots_[i];
-        std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
-        bool stillSafe = true, touching = false;
-        while (done < stretch && stillSafe) {
-            int answered = 0;  // touching pairs answered before this step (their velocities changed)
-            // A step that may sub-step needs the frozen bodies' speeds now.
-            const auto prepareStep = [&] {
-                if (!skip || start.fastest * dt <= kMaxTravelFraction * smallest) return;
-                frozenSpeeds(start, done, options);
-            };
-            if (impacts) {
-                // Conservative advancement (time_of_impact.h): as many whole
-                // steps as no gap can close in, in one step; when a gap may
-                // close within the next step, that step finds the instant.
-                const std::int64_t steps = gapSafeSteps(stretch - done, !options.freeBall);
-                // (Stepping bodies that can no longer touch anything before the
-                // stretch ends freeze, as if they had at its start.)
-                // Not in the step after a replan, in which nobody is frozen (it
-                // must make progress), nor for a last step (nothing to gain).
-                if (steps >= 0 && !nobodyFrozen && stretch - done >= 2)
-                    report.freezes += freezeUnconstrained(start, done, stretch, options);
-                const bool ballMoving = !options.freeBall;
-                if (steps >= 1) {
-                    advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, ballMoving);
-                    done += steps;
-                    ++report.longSteps;
-                    continue;
-                }
-                if (steps == 0) {
-                    prepareStep();
-                    const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
-                    const ImpactStep outcome = impactStep(ballMoving, stepStart, options, report);
-                    if (outcome == ImpactStep::Free) {
-                        ++done;
-                        ++report.longSteps;
-                        continue;
-                    }
-                    if (outcome == ImpactStep::Contact) {
-                        if (!frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
-                            restoreStepping(ballMoving);  // as below: again with everybody
-                            stillSafe = false;
-                            forceOrdinaryStep_ = true;
-                            ++report.replans;
-                            break;
-                        }
-                        ++done;  // (the next step is on the grid while the bodies touch: gapSafeSteps)
-                        continue;
-                    }
-                }
-                // Touching now, or a pass the search could not settle: a step on
-                // the grid, after answering the touching pairs that approach.
-                if (steps < 0) answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
-            } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {
-                // The stepping bodies, too, may be free for a while (a robot
-                // nearing a wall, not yet at it): a long step of a power of two
-                // times dt for them. Not while touching; after a failed try, wait
-                // (twice as long after each failure in a row).
-                const std::int64_t steps = steppingFreeSteps(start, stretch - done);
-                if (steps >= 2) {
-                    advanceBodies(static_cast<double>(steps) * dt, &steppingRobots_, !options.freeBall);
-                    done += steps;
-                    ++report.longSteps;
-                    wait = kFirstRetryWait;
-                    continue;
-                }
-                nextTry = done + wait;
-                wait = std::min(2 * wait, kLongestRetryWait);
-            }
-            prepareStep();
-            beforeStep_ = state_;
-            const StepReport r = stepWorld(model_, state_, dt, options);
-            // A contact may have sent a stepping body towards a free one (the
-            // contact tests skip free bodies): then undo this step, bring the
-            // free bodies to the present and take the step again with
-            // everybody. The margin covers what a body can move within the
-            // step after a contact.
-            // (So may the touching pairs answered before it, even when the
-            // step itself then finds no contact.)
-            if ((r.contacts > 0 || answered > 0) &&
-                !frozenStillSafe(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
-                state_ = beforeStep_;
-                stillSafe = false;
+        stepping_.clear();
+        for (std::size_t i = 0; i < n; ++i) {
+            steppingRobots_[i] = !frozenRobots_[i];
+            if (steppingRobots_[i]) stepping_.push_back(int(i));
+        }
+        // With long steps a step looks at the stepping robots only.
+        if (skip) {
+            options.steppingRobots = &stepping_;
+            options.smallestHalfSize = smallest;
+        }
+        const StretchLoop loop{stretch, skip, impacts, nobodyFrozen, smallest};
+        std::int64_t done = stretch;
+        // Group by group where the moving bodies fall apart (not in the step
+        // after a replan: it takes everybody), else all together.
+        if (!(impacts && !nobodyFrozen && stepInGroups(start, loop, options, report))) {
+            bool unsafe = false;
+            done = stepThroughStretch(start, loop, options, report, unsafe);
+            if (unsafe) {  // again with everybody
                 forceOrdinaryStep_ = true;
                 ++report.replans;
-                break;
             }
-            report.contacts += r.contacts;
-            ++report.stepCalls;
-            ++done;
-            touching = r.contacts > 0;
         }
         if (skip) {  // the frozen bodies catch up: by the whole stretch, or to the present
-            catchUpFrozen(start, done, options.freeBall);
+            catchUpFrozen(start, done, start.frozen[n] == kFrozen);
             ++report.longSteps;
         }
         finishStep(done);

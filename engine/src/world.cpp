@@ -42,15 +42,30 @@ constexpr int kContainmentPasses = 2;
 constexpr int kExtraContainmentPasses = 6;
 constexpr double kContainmentTolerance = 1e-12;  // m
 
+// Whether a step moves the listed robots only (StepOptions::steppingRobots).
+bool listedOnly(const StepOptions& options) {
+    return options.frozen && options.frozenRobotSpeed && options.freeRobots && options.steppingRobots;
+}
+
 int substepsFor(const WorldModel& model, const WorldState& state, double h, const StepOptions& options) {
     const bool frozen = options.frozen && options.frozenRobotSpeed;
     double smallest = model.ball.radius;
     double fastest = frozen && options.freeBall ? options.frozenBallSpeed : std::hypot(state.ball.vx, state.ball.vy);
-    for (std::size_t i = 0; i < state.robots.size(); ++i) {
-        smallest = std::min(smallest, 0.5 * model.sides[i]);
-        const bool isFrozen = frozen && options.freeRobots && (*options.freeRobots)[i];
-        fastest = std::max(fastest, isFrozen ? (*options.frozenRobotSpeed)[i]
-                                             : pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]));
+    if (listedOnly(options)) {
+        // The same maximum (the free robots' speeds are finite, so where
+        // they come in does not matter) and the same minimum.
+        smallest = options.smallestHalfSize;
+        for (const int i : *options.steppingRobots)
+            fastest = std::max(fastest, pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]));
+        fastest = std::max(fastest, options.frozenRobotFastest);
+    } else {
+        for (std::size_t i = 0; i < state.robots.size(); ++i) {
+            smallest = std::min(smallest, 0.5 * model.sides[i]);
+            const bool isFrozen = frozen && options.freeRobots && (*options.freeRobots)[i];
+            fastest =
+                std::max(fastest, isFrozen ? (*options.frozenRobotSpeed)[i]
+                                           : pointSpeedBound(model.robots[i], state.robots[i], state.voltages[i]));
+        }
     }
     const double travel = fastest * h;
     const double allowed = kMaxTravelFraction * smallest;
@@ -68,13 +83,19 @@ void flushToRest(double& speed) {
     if (std::abs(speed) < kRestSpeed) speed = 0.0;
 }
 
+void flushToRest(RobotState& r) {
+    flushToRest(r.v);
+    flushToRest(r.omega);
+}
+
+void flushToRest(BallState& b) {
+    flushToRest(b.vx);
+    flushToRest(b.vy);
+}
+
 void flushToRest(WorldState& state) {
-    for (RobotState& r : state.robots) {
-        flushToRest(r.v);
-        flushToRest(r.omega);
-    }
-    flushToRest(state.ball.vx);
-    flushToRest(state.ball.vy);
+    for (RobotState& r : state.robots) flushToRest(r);
+    flushToRest(state.ball);
 }
 
 bool atRest(const RobotState& r, const Voltages& e) {
@@ -116,17 +137,33 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
     }
     const double sub = h / report.substeps;
     Bodies bodies{&state.robots, &model.robots, &state.ball, &model.ball};
-    const BodiesView view{
-        &state.robots,      &model.sides,     &state.ball,       model.ball.radius, useBroadPhase(model, state),
-        options.freeRobots, options.freeBall, options.broadPhase};
+    const bool listed = listedOnly(options);
+    const BodiesView view{&state.robots,
+                          &model.sides,
+                          &state.ball,
+                          model.ball.radius,
+                          useBroadPhase(model, state),
+                          options.freeRobots,
+                          options.freeBall,
+                          options.broadPhase,
+                          listed ? options.steppingRobots : nullptr};
 
     for (int s = 0; s < report.substeps; ++s) {
-        for (std::size_t i = 0; i < state.robots.size(); ++i)
-            if (!options.frozen || !options.freeRobots || !(*options.freeRobots)[i])
-                integrateRobotBy(model, state, i, sub, options.tables);
+        if (listed) {
+            for (const int i : *options.steppingRobots) integrateRobotBy(model, state, i, sub, options.tables);
+        } else {
+            for (std::size_t i = 0; i < state.robots.size(); ++i)
+                if (!options.frozen || !options.freeRobots || !(*options.freeRobots)[i])
+                    integrateRobotBy(model, state, i, sub, options.tables);
+        }
         if (!(options.frozen && options.freeBall) && !atRest(state.ball))
             integrateBall(model.ball, state.ball, sub, model.settings.integrator);
-        flushToRest(state);
+        if (listed) {  // (the free robots were at rest or flushed when they last moved)
+            for (const int i : *options.steppingRobots) flushToRest(state.robots[i]);
+            flushToRest(state.ball);
+        } else {
+            flushToRest(state);
+        }
 
         bool touching = false;
         int pass = 0;
@@ -280,6 +317,15 @@ void Simulation::applyDueCommands() {
         const ScheduledCommand& c = schedule_[nextCommand_++];
         drive(c.robot, c.drive);
     }
+}
+
+void Simulation::advanceListed(double h, const std::vector<int>& robots, bool ball) {
+    for (const int i : robots) {
+        integrateRobotBy(model_, state_, static_cast<std::size_t>(i), h, tables());
+        flushToRest(state_.robots[i]);
+    }
+    if (ball && !atRest(state_.ball)) integrateBallExact(model_.ball, state_.ball, h);
+    flushToRest(state_.ball);
 }
 
 void Simulation::advanceBodies(double h, const std::vector<char>* robots, bool ball) {

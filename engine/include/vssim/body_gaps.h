@@ -67,17 +67,17 @@ double closingSpeed(const Separation& s, const MotionBound& a, const MotionBound
 struct BodyGapScratch {
     std::vector<MotionBound> bounds;  // per body (robots, then the ball), over the horizon
     std::vector<std::pair<int, int>> pairs;
-    std::vector<int> moving;  // indices of the moving robots
     std::vector<RobotState> movingPoses;
     std::vector<double> movingSides;
     BroadPhaseScratch broadPhase;
 };
 
 // Appends to `out` (cleared first) the gap of every pair of a moving body
-// (`movingRobots[i]` non-zero, the ball when `ballMoving`) with a moving body
+// (the robots `movingRobots`, increasing indices, and the ball when
+// `ballMoving`; its cost grows with those only) with a moving body
 // or a wall that could close within `horizon` s; pairs farther apart than
 // their bodies can travel in it are left out. In a fixed order (deterministic).
-void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<char>& movingRobots,
+void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<int>& movingRobots,
                   bool ballMoving, double horizon, std::vector<BodyGap>& out, BodyGapScratch& scratch);
 
 // The ball's centre as a pose (x, y; theta 0), for separationBetween.

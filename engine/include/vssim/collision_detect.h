@@ -50,6 +50,10 @@ struct BodiesView {
     const std::vector<char>* freeRobots = nullptr;  // non-zero entry: skip robot i
     bool freeBall = false;
     BroadPhaseScratch* broadPhaseScratch = nullptr;  // kept between calls (faster); null: a fresh one
+    // When set: the only robots tested (increasing indices), every other one
+    // free (freeRobots is then not read); the same contacts in the same
+    // order, at a cost that grows with these robots only.
+    const std::vector<int>* listedRobots = nullptr;
 };
 std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies);
 

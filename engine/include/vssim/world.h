@@ -43,6 +43,8 @@ struct AdvanceReport {
     std::int64_t contacts = 0;   // contacts found, summed over the steps
     std::int64_t impacts = 0;    // of those, answered at their time of impact (time_of_impact.h)
     std::int64_t freezes = 0;    // bodies frozen within a stretch, not at its start (time_of_impact)
+    std::int64_t groupedStretches = 0;  // stretches whose moving bodies took them group by group (time_of_impact)
+    std::int64_t groupFallbacks = 0;    // of the stretches tried so, those undone and taken with all groups together
     double firstImpact = NAN;    // s of simulated time: the earliest of those instants (NaN: none)
 };
 
@@ -67,6 +69,15 @@ struct StepOptions {
     // so that the results do not depend on how the run was planned.
     const std::vector<double>* frozenRobotSpeed = nullptr;
     double frozenBallSpeed = 0.0;
+    // With `frozen`, frozenRobotSpeed and freeRobots, optionally: the robots
+    // that are not free (increasing indices), the largest of
+    // frozenRobotSpeed's entries, and the smallest of the ball's radius and
+    // the robots' half sides (m): the step then looks at the listed robots
+    // only, at a cost that does not grow with the free ones, to the same
+    // results.
+    const std::vector<int>* steppingRobots = nullptr;
+    double frozenRobotFastest = 0.0;  // m/s
+    double smallestHalfSize = 0.0;    // m
     // Exact integrator: reuse tables; null builds each table when needed.
     ExactTableCache* tables = nullptr;
     // Broad phase: keep the order along x between steps; null starts afresh.
@@ -105,7 +116,14 @@ public:
     // pushing on a wall stays on the grid). A moving body none of whose gaps
     // can close before the stretch ends freezes where it is and catches up
     // in one step at the stretch's end, like those free from its start
-    // (AdvanceReport::freezes). The states then agree with
+    // (AdvanceReport::freezes). Moving bodies that cannot reach each other
+    // before the stretch ends (their discs of reach plus travel apart) fall
+    // into groups, and each group takes the stretch on its own, the others
+    // standing still meanwhile: a pair about to meet cuts the steps of its
+    // own group only (AdvanceReport::groupedStretches). Should a contact
+    // send a body of one group towards another after all, the stretch is
+    // undone and taken again with the groups together
+    // (AdvanceReport::groupFallbacks). The states then agree with
     // step()'s to rounding until the first contact, which comes up to a step
     // earlier: at its instant, not at the end of its step.
     // Without it, long steps end on multiples of dt, so the contacts happen
@@ -177,6 +195,8 @@ private:
     bool anyOffField() const;
     // Integrates the chosen bodies (all robots when `robots` is null) by h, no contacts.
     void advanceBodies(double h, const std::vector<char>* robots, bool ball);
+    // The same for the listed robots (and the ball), at a cost that grows with them only.
+    void advanceListed(double h, const std::vector<int>& robots, bool ball);
     // The same for one body: robot `body`, or the ball when it is the robot count.
     void advanceBody(std::size_t body, double h);
     void finishStep(std::int64_t steps);
@@ -188,11 +208,15 @@ private:
         options.broadPhase = &broadPhase_;
         return options;
     }
+    // FrozenStart::frozen's values.
+    static constexpr char kStepping = 0;    // moves with the bodies stepping now
+    static constexpr char kFrozen = 1;      // free for the rest of the stretch: catches up at its end
+    static constexpr char kOtherGroup = 2;  // of another group, taking the stretch before or after this one
     // Bodies frozen in a stretch: where, since when, and how far they may go.
     // Most freeze at its start; with time_of_impact a stepping body whose
     // gaps can no longer close before the stretch ends freezes then.
     struct FrozenStart {
-        std::vector<char> frozen;          // per body, robots then the ball
+        std::vector<char> frozen;          // per body, robots then the ball (kStepping, kFrozen, kOtherGroup)
         std::vector<std::int64_t> since;   // per body: steps into the stretch at which it froze
         std::vector<RobotState> robots;    // each frozen robot when it froze
         BallState ball;                    // the ball when it froze
@@ -215,12 +239,53 @@ private:
     Eigen::Vector2d bodyCentre(std::size_t b) const;
     double bodySpeed(std::size_t b) const;
     double bodyTravel(std::size_t b, double horizon) const;
-    // Whether the stepping bodies still cannot reach the frozen ones within `remaining` s.
+    // Whether the stepping bodies still cannot reach the frozen ones, nor
+    // another group's claims, within `remaining` s.
     // `margin` (s) adds that many seconds at each stepping body's speed bound, twice.
     bool frozenStillSafe(const FrozenStart& start, double remaining, double margin = 0.0) const;
     // The frozen bodies' speed bounds `done` steps into the stretch
     // (frozenSpeed_, and the ball's into options.frozenBallSpeed).
     void frozenSpeeds(const FrozenStart& start, std::int64_t done, StepOptions& options);
+    // The loop of one stretch for the stepping bodies, from its start to
+    // its end or to a contact that brings one of them within reach of a
+    // body that is not stepping (`unsafe`: that step is undone, the state
+    // is `done` steps into the stretch, returned).
+    struct StretchLoop {
+        std::int64_t stretch = 0;   // steps until the voltages can change
+        bool skip = false;          // long steps (frozen bodies stand still)
+        bool impacts = false;       // contacts at their time of impact
+        bool nobodyFrozen = false;  // the step after a replan: nobody freezes
+        double smallest = 0.0;      // m: the smallest half-size (sub-steps, world.h)
+    };
+    std::int64_t stepThroughStretch(FrozenStart& start, const StretchLoop& loop, StepOptions& options,
+                                    AdvanceReport& report, bool& unsafe);
+    // Groups (advanceTo): the stepping bodies whose discs of reach plus
+    // travel over the stretch (start.travel) and a step's margin overlap,
+    // linked in chains, are one group; groupOf_ numbers them by their lowest
+    // body index. Returns how many, or 0 when the stretch is not to be
+    // taken so: fewer than two, a body fast enough for sub-steps (every step
+    // of a group must be the one the whole world would take), or a body not
+    // finite. Fills claims_, groupMembers_ and groupFirst_.
+    int formGroups(const FrozenStart& start, double smallest);
+    // Takes the stretch group by group (true), or leaves everything as it
+    // was (false: fewer than two groups, or a contact sent a body towards
+    // another group, and the stretch was undone).
+    bool stepInGroups(FrozenStart& start, const StretchLoop& loop, StepOptions& options, AdvanceReport& report);
+    // Where a body of a group may be within the stretch: a disc around its
+    // centre at the stretch's start that holds it all along unless a
+    // contact of its group changes its velocity, and one more around its
+    // centre after each such contact (contactClaims_).
+    struct Claim {
+        double x = 0.0, y = 0.0;  // m
+        double reach = 0.0;       // m: its reach plus travel
+        int body = 0;
+        int group = 0;
+    };
+    // Whether the disc of `reach` (m) around (x, y) is clear of every other group's claims.
+    bool clearOfOtherGroups(double x, double y, double reach) const;
+    // After a contact among the stepping bodies: frozenStillSafe, and with
+    // groups, still slow enough for one sub-step, their new discs claimed.
+    bool apartAfterContact(const FrozenStart& start, double remaining, double margin);
     // With time_of_impact, `done` steps into a stretch of `stretch`: the
     // stepping bodies that gapSafeSteps found unconstrained (no gap of
     // theirs can close before the stretch ends) freeze now, unless they are
@@ -272,6 +337,8 @@ private:
     FrozenStart frozenStart_;
     std::vector<char> frozenRobots_;
     std::vector<char> steppingRobots_;
+    std::vector<int> stepping_;        // steppingRobots_'s robots, increasing (kept in step with it)
+    std::vector<int> steppingBodies_;  // freezeUnconstrained's: stepping_, then the ball if it steps
     std::vector<double> frozenSpeed_;  // per robot, m/s (frozen ones only)
     WorldState beforeStep_;            // to undo a step that reached a frozen body
     bool forceOrdinaryStep_ = false;   // the next step (with time_of_impact: stretch) takes every body
@@ -286,6 +353,20 @@ private:
     std::vector<char> pathReady_;
     std::vector<RobotState> stepStartRobots_;  // saveStepping's (stepping robots' entries only)
     BallState stepStartBall_;
+    // Groups (stepInGroups): each stepping body's group (-1: none), the group stepping now (-1: all).
+    std::vector<int> groupOf_;
+    std::vector<int> groupRoot_;      // formGroups' union-find
+    int currentGroup_ = -1;
+    std::vector<Claim> claims_;       // at the stretch's start, by increasing x
+    double claimsWidest_ = 0.0;       // m: the largest reach of claims_
+    std::vector<Claim> contactClaims_;
+    double groupSpeedLimit_ = 0.0;    // m/s: a body faster than this would make a step take sub-steps
+    WorldState stretchStart_;         // to undo a stretch taken group by group
+    FrozenStart frozenBefore_;
+    std::vector<char> steppingBefore_, frozenRobotsBefore_;
+    std::vector<int> steppingListBefore_;
+    std::vector<int> groupMembers_;  // formGroups': the robots of group g at groupFirst_[g] to groupFirst_[g + 1]
+    std::vector<std::size_t> groupFirst_, groupFill_;
 };
 
 }  // namespace vssim
