@@ -6,6 +6,7 @@
 
 #include "test_support.h"
 #include "vssim/collision_detect.h"
+#include "vssim/exact_integrator.h"
 #include "vssim/geometry.h"
 #include "vssim/world.h"
 
@@ -81,7 +82,68 @@ private slots:
     void deterministic();
     void paperFigure13RobotStopsAtWall();
     void collisionModelsDiffer();
+    void brokenStatesDoNotStall();
+    void tinySpeedsAreZeroFromTheStart();
 };
+
+void TestWorld::brokenStatesDoNotStall() {
+    // A robot whose position or speed is NaN, or whose speed is infinite
+    // (set through the API; scene files refuse them), breaks the world, but
+    // must not stall it: no sub-steps (a million of them used to be taken
+    // for an infinite speed) and one exact panel (there used to be 2^20, a
+    // fifth of a second per step), so 200 steps take no time.
+    const RobotModel model = makeRobotModel(RobotParams{});
+    for (const double bad : {double(NAN), double(INFINITY)}) {
+        RobotState r;
+        r.omega = bad;
+        QCOMPARE(exactPanelsFor(model, r, Voltages{3.0, 3.0}, 0.03), 1);
+        Scene scene;
+        scene.robots.push_back(test::robotAt("a", 0.0, 0.0, 0.0, bad));
+        WorldState state = initialWorldState(scene);
+        QCOMPARE(stepWorld(makeWorldModel(scene), state, 0.001).substeps, 1);
+    }
+    for (int variant = 0; variant < 3; ++variant) {
+        Scene scene;
+        scene.field = makeRectangularField(3.0, 3.0);
+        for (int i = 0; i < 4; ++i) {
+            scene.robots.push_back(test::robotAt("r", -1.0 + 0.6 * i, 1.4 - 0.01 * i, 0.0, 0.5));
+            scene.commands.push_back({0.0, i, Voltages{3.0, 3.0}});
+        }
+        RobotState& broken = scene.robots[3].initial;
+        (variant == 0 ? broken.x : broken.v) = variant == 2 ? INFINITY : NAN;
+        Simulation sim(scene);
+        QElapsedTimer timer;
+        timer.start();
+        for (std::int64_t k = 10; k <= 200; k += 10) sim.advanceTo(k);
+        QCOMPARE(sim.state().step, std::int64_t(200));
+        // (Not a timing test: before the fix this took about 40 s; now
+        // microseconds. Half a minute leaves any loaded machine room.)
+        QVERIFY2(timer.elapsed() < 30000, qPrintable(QString("variant %1: %2 ms").arg(variant).arg(timer.elapsed())));
+    }
+}
+
+void TestWorld::tinySpeedsAreZeroFromTheStart() {
+    // Speeds under 1e-200 are flushed to zero (world.cpp, kRestSpeed) when
+    // a simulation starts and when a body is placed, as after every step:
+    // so a body the planner leaves alone never keeps one that a step of
+    // everybody would have flushed, and the plan does not change results.
+    Scene scene;
+    scene.robots.push_back(test::robotAt("a", 0.0, 0.0, 0.0, 1e-250));
+    scene.ball.vx = -1e-250;
+    Simulation sim(scene);
+    QCOMPARE(sim.state().robots[0].v, 0.0);
+    QCOMPARE(sim.state().ball.vx, 0.0);
+    RobotState placed;
+    placed.omega = 1e-210;
+    placed.v = 0.25;
+    sim.placeRobot(0, placed);
+    QCOMPARE(sim.state().robots[0].omega, 0.0);
+    QCOMPARE(sim.state().robots[0].v, 0.25);
+    BallState ball;
+    ball.vy = 1e-220;
+    sim.placeBall(ball);
+    QCOMPARE(sim.state().ball.vy, 0.0);
+}
 
 void TestWorld::commandTakesEffectAtItsStep() {
     QCOMPARE(Simulation::stepIndexAtOrAfter(0.03, 0.001), std::int64_t(30));

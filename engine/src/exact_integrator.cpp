@@ -70,7 +70,9 @@ ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels)
 int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h) {
     const double yawRate = velocityBound(model, state, e)(1);  // rad/s, over the whole step
     const double need = yawRate * h / kPanelTurn;
-    if (!(need > 1.0)) return 1;  // also NaN
+    // Also NaN or infinite (a state already broken: no number of panels
+    // makes it accurate, and the most would only stall the run).
+    if (!(need > 1.0) || !std::isfinite(need)) return 1;
     return static_cast<int>(std::min<double>(kMaxPanels, std::ceil(need)));
 }
 

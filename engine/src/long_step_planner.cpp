@@ -103,16 +103,36 @@ bool Simulation::frozenStillSafe(const FrozenStart& start, double remaining, dou
 }
 
 bool Simulation::clearOfOtherGroups(double x, double y, double reach) const {
-    auto clear = [&](const Claim& c) {
-        return c.group == currentGroup_ || std::hypot(x - c.x, y - c.y) - c.reach > reach;  // (NaN: not clear)
-    };
+    // claims_ is sorted by each claim's x at the stretch's start (`key`);
+    // a claim's disc now lies within claimsWidest_ of that along x.
     const double window = reach + claimsWidest_;  // m
-    auto k =
-        std::lower_bound(claims_.begin(), claims_.end(), x - window, [](const Claim& c, double v) { return c.x < v; });
-    for (; k != claims_.end() && k->x <= x + window; ++k)
-        if (!clear(*k)) return false;
-    return std::all_of(contactClaims_.begin(), contactClaims_.end(), clear);
+    auto k = std::lower_bound(claims_.begin(), claims_.end(), x - window,
+                              [](const Claim& c, double v) { return c.key < v; });
+    for (; k != claims_.end() && k->key <= x + window; ++k)
+        if (k->group != currentGroup_ && !(std::hypot(x - k->x, y - k->y) - k->reach > reach))  // (NaN: not clear)
+            return false;
+    return true;
 }
+
+namespace {
+
+// A disc (centre x, y and radius r, m) that holds both given discs: the
+// smallest such, grown by a picometre against rounding.
+void encloseDisc(double& x, double& y, double& r, double x2, double y2, double r2) {
+    const double d = std::hypot(x2 - x, y2 - y);
+    if (d + r2 <= r) return;  // the second is inside the first
+    if (d + r <= r2) {
+        x = x2, y = y2, r = r2;
+        return;
+    }
+    const double enclosing = 0.5 * (d + r + r2);
+    const double shift = (enclosing - r) / d;  // (d > 0 here: equal centres fall in a case above)
+    x += (x2 - x) * shift;
+    y += (y2 - y) * shift;
+    r = enclosing + 1e-12;
+}
+
+}  // namespace
 
 bool Simulation::apartAfterContact(const FrozenStart& start, double remaining, double margin) {
     if (!frozenStillSafe(start, remaining, margin)) return false;
@@ -122,20 +142,23 @@ bool Simulation::apartAfterContact(const FrozenStart& start, double remaining, d
     // which the other groups were just checked against), which the groups
     // after this one must keep clear of as well. And a body sped up to need
     // sub-steps would make the steps differ from the whole world's.
+    // (Each body keeps one claim, grown to hold the new disc as well: the
+    // checks then cost the same however many contacts a stretch has.)
     const std::size_t n = state_.robots.size();
-    const std::size_t claimed = contactClaims_.size();
+    auto slow = [&](std::size_t j) { return bodySpeed(j) <= groupSpeedLimit_; };
+    if (!std::all_of(stepping_.begin(), stepping_.end(), [&](int j) { return slow(std::size_t(j)); }) ||
+        (start.frozen[n] == kStepping && !slow(n)))
+        return false;
     auto claim = [&](std::size_t j) {
-        const double speed = bodySpeed(j);
-        if (!(speed <= groupSpeedLimit_)) return false;
-        const Eigen::Vector2d c = bodyCentre(j);
-        contactClaims_.push_back(
-            {c.x(), c.y(), bodyReach(j) + bodyTravel(j, remaining) + 2.0 * speed * margin, int(j), currentGroup_});
-        return true;
+        Claim& c = claims_[claimOf_[j]];
+        const Eigen::Vector2d now = bodyCentre(j);
+        encloseDisc(c.x, c.y, c.reach, now.x(), now.y(),
+                    bodyReach(j) + bodyTravel(j, remaining) + 2.0 * bodySpeed(j) * margin);
+        claimsWidest_ = std::max(claimsWidest_, std::abs(c.x - c.key) + c.reach);  // (NaN: checks fail)
     };
-    bool slow = std::all_of(stepping_.begin(), stepping_.end(), [&](int j) { return claim(std::size_t(j)); });
-    if (slow && start.frozen[n] == kStepping) slow = claim(n);
-    if (!slow) contactClaims_.resize(claimed);
-    return slow;
+    for (const int j : stepping_) claim(std::size_t(j));
+    if (start.frozen[n] == kStepping) claim(n);
+    return true;
 }
 
 int Simulation::formGroups(const FrozenStart& start, double smallest) {
@@ -148,7 +171,6 @@ int Simulation::formGroups(const FrozenStart& start, double smallest) {
     stepReach_.resize(n + 1);
     steppingByX_.clear();
     claims_.clear();
-    contactClaims_.clear();
     double widest = 0.0;  // m
     auto disc = [&](std::size_t j) {
         const double speed = bodySpeed(j), travel = start.travel[j];
@@ -157,7 +179,7 @@ int Simulation::formGroups(const FrozenStart& start, double smallest) {
         stepReach_[j] = bodyReach(j) + travel + 2.0 * speed * dt;
         widest = std::max(widest, stepReach_[j]);
         steppingByX_.emplace_back(c.x(), int(j));
-        claims_.push_back({c.x(), c.y(), bodyReach(j) + travel, int(j), -1});
+        claims_.push_back({c.x(), c.x(), c.y(), bodyReach(j) + travel, int(j), -1});
         return true;
     };
     for (const int i : stepping_)
@@ -210,7 +232,9 @@ int Simulation::formGroups(const FrozenStart& start, double smallest) {
         claimsWidest_ = std::max(claimsWidest_, c.reach);
     }
     std::sort(claims_.begin(), claims_.end(),
-              [](const Claim& a, const Claim& b) { return a.x < b.x || (a.x == b.x && a.body < b.body); });
+              [](const Claim& a, const Claim& b) { return a.key < b.key || (a.key == b.key && a.body < b.body); });
+    claimOf_.resize(n + 1);
+    for (std::size_t k = 0; k < claims_.size(); ++k) claimOf_[claims_[k].body] = k;
     return groups;
 }
 
@@ -218,7 +242,10 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
                               AdvanceReport& report) {
     const std::size_t n = state_.robots.size();
     const int groups = formGroups(start, loop.smallest);
-    if (groups < 2) return false;
+    if (groups < 2) {
+        claims_.clear();  // (frozenStillSafe reads them)
+        return false;
+    }
     // What an undone stretch goes back to.
     stretchStart_ = state_;
     frozenBefore_ = start;
@@ -257,7 +284,6 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
     stepping_.clear();
     currentGroup_ = -1;
     claims_.clear();
-    contactClaims_.clear();
     if (apart) {
         options.freeBall = start.frozen[n] == kFrozen;
         ++report.groupedStretches;

@@ -69,7 +69,9 @@ int substepsFor(const WorldModel& model, const WorldState& state, double h, cons
     }
     const double travel = fastest * h;
     const double allowed = kMaxTravelFraction * smallest;
-    if (!(travel > allowed)) return 1;  // also when travel is NaN
+    // Also when travel is NaN or infinite: no number of sub-steps makes such
+    // a state safe, and a million of them would only stall the run.
+    if (!(travel > allowed) || !std::isfinite(travel)) return 1;
     return static_cast<int>(std::min(1e6, std::ceil(travel / allowed)));
 }
 
@@ -158,9 +160,9 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
         }
         if (!(options.frozen && options.freeBall) && !atRest(state.ball))
             integrateBall(model.ball, state.ball, sub, model.settings.integrator);
-        if (listed) {  // (the free robots were at rest or flushed when they last moved)
+        if (listed) {  // (the free bodies were flushed when they last moved, or set: Simulation)
             for (const int i : *options.steppingRobots) flushToRest(state.robots[i]);
-            flushToRest(state.ball);
+            if (!options.freeBall) flushToRest(state.ball);
         } else {
             flushToRest(state);
         }
@@ -208,6 +210,10 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
 
 Simulation::Simulation(const Scene& scene)
     : scene_(scene), model_(makeWorldModel(scene)), state_(initialWorldState(scene)) {
+    // Speeds under kRestSpeed are zero from the start, as after any step:
+    // a body the plan leaves alone (free, frozen) must not keep one that a
+    // step of everybody would have flushed.
+    flushToRest(state_);
     schedule_.reserve(scene.commands.size());
     for (const VoltageCommand& c : scene.commands)
         schedule_.push_back({stepIndexAtOrAfter(c.t, model_.settings.dt), c.robot, c.drive()});
@@ -308,9 +314,13 @@ std::int64_t Simulation::nextLoopStep(std::int64_t limit) const {
 void Simulation::placeRobot(int robot, const RobotState& pose) {
     state_.robots[robot] = pose;
     if (state_.offField[robot]) state_.robots[robot].v = state_.robots[robot].omega = 0.0;  // stays at rest
+    flushToRest(state_.robots[robot]);  // (as the constructor)
 }
 
-void Simulation::placeBall(const BallState& ball) { state_.ball = ball; }
+void Simulation::placeBall(const BallState& ball) {
+    state_.ball = ball;
+    flushToRest(state_.ball);
+}
 
 void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {
@@ -325,7 +335,7 @@ void Simulation::advanceListed(double h, const std::vector<int>& robots, bool ba
         flushToRest(state_.robots[i]);
     }
     if (ball && !atRest(state_.ball)) integrateBallExact(model_.ball, state_.ball, h);
-    flushToRest(state_.ball);
+    if (ball) flushToRest(state_.ball);
 }
 
 void Simulation::advanceBodies(double h, const std::vector<char>* robots, bool ball) {

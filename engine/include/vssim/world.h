@@ -273,18 +273,20 @@ private:
     bool stepInGroups(FrozenStart& start, const StretchLoop& loop, StepOptions& options, AdvanceReport& report);
     // Where a body of a group may be within the stretch: a disc around its
     // centre at the stretch's start that holds it all along unless a
-    // contact of its group changes its velocity, and one more around its
-    // centre after each such contact (contactClaims_).
+    // contact of its group changes its velocity; after each such contact,
+    // grown to hold a disc around where it then is as well.
     struct Claim {
-        double x = 0.0, y = 0.0;  // m
-        double reach = 0.0;       // m: its reach plus travel
+        double key = 0.0;         // m: the centre's x at the stretch's start (claims_ is sorted by it)
+        double x = 0.0, y = 0.0;  // m: the disc's centre
+        double reach = 0.0;       // m: its radius (the body's reach plus travel)
         int body = 0;
         int group = 0;
     };
     // Whether the disc of `reach` (m) around (x, y) is clear of every other group's claims.
     bool clearOfOtherGroups(double x, double y, double reach) const;
     // After a contact among the stepping bodies: frozenStillSafe, and with
-    // groups, still slow enough for one sub-step, their new discs claimed.
+    // groups, still slow enough for one sub-step, their claims grown to hold
+    // where they may go from now on.
     bool apartAfterContact(const FrozenStart& start, double remaining, double margin);
     // With time_of_impact, `done` steps into a stretch of `stretch`: the
     // stepping bodies that gapSafeSteps found unconstrained (no gap of
@@ -357,9 +359,9 @@ private:
     std::vector<int> groupOf_;
     std::vector<int> groupRoot_;      // formGroups' union-find
     int currentGroup_ = -1;
-    std::vector<Claim> claims_;       // at the stretch's start, by increasing x
-    double claimsWidest_ = 0.0;       // m: the largest reach of claims_
-    std::vector<Claim> contactClaims_;
+    std::vector<Claim> claims_;       // one per stepping body, by increasing key
+    std::vector<std::size_t> claimOf_;  // per body: its claim's place in claims_
+    double claimsWidest_ = 0.0;       // m: the largest |x - key| + reach of claims_
     double groupSpeedLimit_ = 0.0;    // m/s: a body faster than this would make a step take sub-steps
     WorldState stretchStart_;         // to undo a stretch taken group by group
     FrozenStart frozenBefore_;
