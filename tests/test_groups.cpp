@@ -24,19 +24,8 @@ private slots:
 
 namespace {
 
-Scene boxScene(const std::vector<RobotState>& robots, const BallState& ball) {
-    Scene s;
-    s.field = makeRectangularField(3.0, 3.0);  // walls at +-1.5 m
-    s.simulation.integrator = Integrator::Exact;
-    for (std::size_t i = 0; i < robots.size(); ++i) {
-        RobotSpec r;
-        r.name = "r" + std::to_string(i);
-        r.initial = robots[i];
-        s.robots.push_back(r);
-    }
-    s.ball = ball;
-    return s;
-}
+using test::boxScene;
+using test::maxPositionDifference;
 
 RobotState pose(double x, double y, double theta, double v) {
     RobotState r;
@@ -50,13 +39,6 @@ RobotState pose(double x, double y, double theta, double v) {
 bool sameBits(const RobotState& a, const RobotState& b) { return std::memcmp(&a, &b, sizeof(RobotState)) == 0; }
 
 bool sameBits(const BallState& a, const BallState& b) { return std::memcmp(&a, &b, sizeof(BallState)) == 0; }
-
-double maxPositionDifference(const WorldState& a, const WorldState& b) {
-    double d = std::hypot(a.ball.x - b.ball.x, a.ball.y - b.ball.y);
-    for (std::size_t i = 0; i < a.robots.size(); ++i)
-        d = std::max(d, std::hypot(a.robots[i].x - b.robots[i].x, a.robots[i].y - b.robots[i].y));
-    return d;
-}
 
 // n robots at random, non-overlapping places on a square box at the 3 vs 3
 // field's density (0.325 m^2 per robot), with random headings and speeds

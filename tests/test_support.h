@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
+#include <string>
+#include <vector>
 
 #include "vssim/robot_params.h"
 #include "vssim/scene.h"
@@ -28,6 +31,31 @@ inline double relativeError(double got, double want) { return std::abs(got - wan
 // FNV-1a over the bytes of every double of a world state: equal hashes mean
 // bit-identical states (vssim/state_hash.h, shared with `vssim stress`).
 using vssim::hashState;
+
+// A scene on a square box (walls at +-fieldSide/2, m) with the given
+// robots (default parameters, named r0, r1, ...) and the ball, integrated
+// exactly.
+inline Scene boxScene(const std::vector<RobotState>& robots, const BallState& ball, double fieldSide = 3.0) {
+    Scene s;
+    s.field = makeRectangularField(fieldSide, fieldSide);
+    s.simulation.integrator = Integrator::Exact;
+    for (std::size_t i = 0; i < robots.size(); ++i) {
+        RobotSpec r;
+        r.name = "r" + std::to_string(i);
+        r.initial = robots[i];
+        s.robots.push_back(r);
+    }
+    s.ball = ball;
+    return s;
+}
+
+// The largest distance between the same body's centre in two states, m.
+inline double maxPositionDifference(const WorldState& a, const WorldState& b) {
+    double d = std::hypot(a.ball.x - b.ball.x, a.ball.y - b.ball.y);
+    for (std::size_t i = 0; i < a.robots.size(); ++i)
+        d = std::max(d, std::hypot(a.robots[i].x - b.robots[i].x, a.robots[i].y - b.robots[i].y));
+    return d;
+}
 
 inline RobotSpec robotAt(const char* name, double x, double y, double theta, double v = 0.0) {
     RobotSpec r;

@@ -51,20 +51,7 @@ RobotState randomPose(std::mt19937& rng, double spread) {
     return r;
 }
 
-// A scene on a large box with the given robots (default parameters) and the ball.
-Scene scene(const std::vector<RobotState>& robots, const BallState& ball, double fieldSide = 3.0) {
-    Scene s;
-    s.field = makeRectangularField(fieldSide, fieldSide);
-    s.simulation.integrator = Integrator::Exact;
-    for (std::size_t i = 0; i < robots.size(); ++i) {
-        RobotSpec r;
-        r.name = "r" + std::to_string(i);
-        r.initial = robots[i];
-        s.robots.push_back(r);
-    }
-    s.ball = ball;
-    return s;
-}
+using test::boxScene;  // a scene on a large box with the given robots (default parameters) and the ball
 
 // Whether any two bodies of a state overlap or a body crosses a wall (the
 // engine's own contact tests, which the planner's searches do not use).
@@ -278,7 +265,7 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
     const double horizon = 0.03;                                                         // s
     // The one gap of a lone robot with the right wall (x = 0.75) of a 1.5 m field.
     auto wallGap = [&](const RobotState& r, const Voltages& e) {
-        Scene s = scene({r}, {-0.6, -0.5, 0.0, 0.0});
+        Scene s = boxScene({r}, {-0.6, -0.5, 0.0, 0.0});
         s.field = makeRectangularField(1.5, 1.3);
         const WorldModel m = makeWorldModel(s);
         WorldState state = initialWorldState(s);
@@ -399,7 +386,7 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
             r.omega = uniform(rng, -15.0, 15.0);
             e.push_back({uniform(rng, -7.4, 7.4), uniform(rng, -7.4, 7.4)});
         }
-        Scene s = scene(robots, ball, fieldSide);
+        Scene s = boxScene(robots, ball, fieldSide);
         // A start already touching, or within kContactSkin (a step on the grid), is not a test of the search.
         if (anyContact(makeWorldModel(s), initialWorldState(s)) ||
             !(smallestGap(makeWorldModel(s), initialWorldState(s)) > kContactSkin))
@@ -450,7 +437,7 @@ void TestTimeOfImpact::headOn() {
     RobotState a, b;
     a.x = -0.1, a.v = v;
     b.x = 0.1, b.theta = M_PI, b.v = v;
-    Scene s = scene({a, b}, {1.3, 1.3, 0.0, 0.0});
+    Scene s = boxScene({a, b}, {1.3, 1.3, 0.0, 0.0});
     s.commands = {{0.0, 0, e}, {0.0, 1, e}};
     Simulation sim(s);
     const AdvanceReport r = sim.advanceTo(300);
@@ -472,7 +459,7 @@ void TestTimeOfImpact::cornerIntoAWall() {
     const double v = steadyStateVelocity(model, e)(0);
     RobotState a;
     a.x = 0.4, a.y = -0.2, a.theta = M_PI / 4, a.v = v;
-    Scene s = scene({a}, {-0.6, -0.5, 0.0, 0.0});
+    Scene s = boxScene({a}, {-0.6, -0.5, 0.0, 0.0});
     s.field = makeRectangularField(1.5, 1.3);
     s.commands = {{0.0, 0, e}};
     Simulation sim(s);
@@ -494,7 +481,7 @@ void TestTimeOfImpact::glancingPass() {
     RobotState mover, still;
     mover.x = -0.2, mover.v = v;
     still.x = 0.1, still.y = 0.075 - 0.001;
-    Scene s = scene({mover, still}, {1.3, 1.3, 0.0, 0.0});
+    Scene s = boxScene({mover, still}, {1.3, 1.3, 0.0, 0.0});
     s.commands = {{0.0, 0, e}};
     Simulation sim(s);
     const AdvanceReport r = sim.advanceTo(400);
@@ -512,7 +499,7 @@ void TestTimeOfImpact::ballIntoAWall() {
     // The ball rolls at the right wall decelerating by friction, x(t) = x0 +
     // v0 (1 - e^(-k t)) / k: it touches when x = 0.75 - r.
     BallState ball{0.2, 0.0, 1.5, 0.0};
-    Scene s = scene({}, ball);
+    Scene s = boxScene({}, ball);
     s.field = makeRectangularField(1.5, 1.3);
     Simulation sim(s);
     const AdvanceReport r = sim.advanceTo(1000);
@@ -547,12 +534,7 @@ Scene randomGame(std::uint32_t seed, double duration) {
     return s;
 }
 
-double maxPositionDifference(const WorldState& a, const WorldState& b) {
-    double d = std::hypot(a.ball.x - b.ball.x, a.ball.y - b.ball.y);
-    for (std::size_t i = 0; i < a.robots.size(); ++i)
-        d = std::max(d, std::hypot(a.robots[i].x - b.robots[i].x, a.robots[i].y - b.robots[i].y));
-    return d;
-}
+using test::maxPositionDifference;
 
 void TestTimeOfImpact::touchingPairSendsABodyAtAFrozenOne() {
     // Robot a drives into the ball, which rests 1 um ahead of it (touching:
@@ -570,7 +552,7 @@ void TestTimeOfImpact::touchingPairSendsABodyAtAFrozenOne() {
         RobotState a, b;
         a.v = 0.5;
         b.x = bX;
-        Scene s = scene({a, b}, BallState{ballX, 0.0, 0.0, 0.0});
+        Scene s = boxScene({a, b}, BallState{ballX, 0.0, 0.0, 0.0});
         s.simulation.time_of_impact = atImpact;
         s.simulation.long_steps = longSteps;
         s.commands.push_back({0.0, 0, Voltages{3.0, 3.0}});

@@ -249,7 +249,6 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
     // What an undone stretch goes back to.
     stretchStart_ = state_;
     frozenBefore_ = start;
-    steppingBefore_ = steppingRobots_;
     frozenRobotsBefore_ = frozenRobots_;
     steppingListBefore_ = stepping_;
     const AdvanceReport reportBefore = report;
@@ -259,7 +258,6 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
     auto standAside = [&] {
         for (const int i : stepping_) {
             start.frozen[i] = kOtherGroup;
-            steppingRobots_[i] = 0;
             frozenRobots_[i] = 1;
         }
         if (start.frozen[n] == kStepping) start.frozen[n] = kOtherGroup;
@@ -271,7 +269,6 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
         stepping_.assign(groupMembers_.begin() + groupFirst_[g], groupMembers_.begin() + groupFirst_[g + 1]);
         for (const int i : stepping_) {
             start.frozen[i] = kStepping;
-            steppingRobots_[i] = 1;
             frozenRobots_[i] = 0;
         }
         if (groupOf_[n] == g) start.frozen[n] = kStepping;
@@ -291,7 +288,6 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
     }
     state_ = stretchStart_;
     start = frozenBefore_;
-    steppingRobots_ = steppingBefore_;
     frozenRobots_ = frozenRobotsBefore_;
     stepping_ = steppingListBefore_;
     report = reportBefore;
@@ -388,7 +384,6 @@ int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::
         if (b < n) {
             start.robots[b] = state_.robots[b];
             frozenRobots_[b] = 1;
-            steppingRobots_[b] = 0;
         } else {
             start.ball = state_.ball;
             options.freeBall = true;
@@ -836,12 +831,9 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         }
         frozenSpeed_.assign(n, 0.0);
         options.frozenBallSpeed = 0.0;
-        steppingRobots_.resize(n);
         stepping_.clear();
-        for (std::size_t i = 0; i < n; ++i) {
-            steppingRobots_[i] = !frozenRobots_[i];
-            if (steppingRobots_[i]) stepping_.push_back(int(i));
-        }
+        for (std::size_t i = 0; i < n; ++i)
+            if (!frozenRobots_[i]) stepping_.push_back(int(i));
         // With long steps a step looks at the stepping robots only.
         if (skip) {
             options.steppingRobots = &stepping_;

@@ -338,8 +338,7 @@ private:
     FreeBodies free_;
     FrozenStart frozenStart_;
     std::vector<char> frozenRobots_;
-    std::vector<char> steppingRobots_;
-    std::vector<int> stepping_;        // steppingRobots_'s robots, increasing (kept in step with it)
+    std::vector<int> stepping_;        // the stepping robots (frozenRobots_'s zero entries), increasing
     std::vector<int> steppingBodies_;  // freezeUnconstrained's: stepping_, then the ball if it steps
     std::vector<double> frozenSpeed_;  // per robot, m/s (frozen ones only)
     WorldState beforeStep_;            // to undo a step that reached a frozen body
@@ -365,7 +364,7 @@ private:
     double groupSpeedLimit_ = 0.0;    // m/s: a body faster than this would make a step take sub-steps
     WorldState stretchStart_;         // to undo a stretch taken group by group
     FrozenStart frozenBefore_;
-    std::vector<char> steppingBefore_, frozenRobotsBefore_;
+    std::vector<char> frozenRobotsBefore_;
     std::vector<int> steppingListBefore_;
     std::vector<int> groupMembers_;  // formGroups': the robots of group g at groupFirst_[g] to groupFirst_[g + 1]
     std::vector<std::size_t> groupFirst_, groupFill_;
