@@ -183,12 +183,9 @@ void TestGroups::crowdsAgreeWithFineFixedSteps() {
     std::vector<double> planner, grid;
     std::int64_t grouped = 0;
     for (std::uint32_t seed = 1; seed <= 10; ++seed) {
-        Scene s = crowd(100 + seed, 24, 0.4);
-        Scene reference = s, fixed = s;
-        reference.simulation.long_steps = false;
-        reference.simulation.dt = 1e-5;
-        fixed.simulation.long_steps = false;
-        Simulation p(s), ref(reference), g(fixed);
+        const Scene s = crowd(100 + seed, 24, 0.4);
+        const test::FixedStepReferences references = test::fixedStepReferences(s);
+        Simulation p(s), ref(references.fine), g(references.grid);
         AdvanceReport pr;
         for (std::int64_t k = 30; k <= 390; k += 30) {
             const AdvanceReport r = p.advanceTo(k);
@@ -203,11 +200,7 @@ void TestGroups::crowdsAgreeWithFineFixedSteps() {
     }
     QVERIFY(planner.size() >= 5);
     QVERIFY(grouped >= 10);
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
-    const double mp = median(planner), mg = median(grid);
+    const double mp = test::median(planner), mg = test::median(grid);
     qInfo(
         "%zu crowds with contacts, %lld stretches grouped; median largest difference from fixed steps of 10 us: "
         "planner %.3g m, fixed steps of 1 ms %.3g m",

@@ -57,6 +57,27 @@ inline double maxPositionDifference(const WorldState& a, const WorldState& b) {
     return d;
 }
 
+// The references a run with contacts at their time of impact is judged
+// against: the same scene with fixed steps of its dt (contacts at the end
+// of a step, up to dt late) and with fixed steps of 10 us (at most 10 us
+// late).
+struct FixedStepReferences {
+    Scene grid;
+    Scene fine;
+};
+inline FixedStepReferences fixedStepReferences(const Scene& scene) {
+    FixedStepReferences r{scene, scene};
+    r.grid.simulation.long_steps = false;
+    r.fine.simulation.long_steps = false;
+    r.fine.simulation.dt = 1e-5;
+    return r;
+}
+
+inline double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
 inline RobotSpec robotAt(const char* name, double x, double y, double theta, double v = 0.0) {
     RobotSpec r;
     r.name = name;

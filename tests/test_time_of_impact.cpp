@@ -610,11 +610,8 @@ void TestTimeOfImpact::gameAgreesWithFineFixedSteps() {
     for (std::uint32_t seed = 1; seed <= 60; ++seed) {
         Scene s = randomGame(1000 + seed, 0.4);
         for (RobotSpec& r : s.robots) r.initial.x *= 0.4, r.initial.y *= 0.4;  // crowded: contacts soon
-        Scene reference = s, fixed = s;
-        reference.simulation.long_steps = false;
-        reference.simulation.dt = 1e-5;
-        fixed.simulation.long_steps = false;
-        Simulation p(s), ref(reference), g(fixed);
+        const test::FixedStepReferences references = test::fixedStepReferences(s);
+        Simulation p(s), ref(references.fine), g(references.grid);
         const AdvanceReport pr = p.advanceTo(400);
         ref.advanceTo(40000);
         g.advanceTo(400);
@@ -623,11 +620,7 @@ void TestTimeOfImpact::gameAgreesWithFineFixedSteps() {
         grid.push_back(maxPositionDifference(g.state(), ref.state()));
     }
     QVERIFY(planner.size() >= 20);
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
-    const double mp = median(planner), mg = median(grid);
+    const double mp = test::median(planner), mg = test::median(grid);
     qInfo("median largest difference from fixed steps of 10 us: planner %.3g m, fixed steps of 1 ms %.3g m", mp, mg);
     QVERIFY2(mp < 3e-5, qPrintable(QString::number(mp)));
     QVERIFY2(mp * 20.0 < mg, qPrintable(QString("%1 against %2").arg(mp).arg(mg)));
