@@ -214,9 +214,9 @@ Simulation::Simulation(const Scene& scene)
     // a body the plan leaves alone (free, frozen) must not keep one that a
     // step of everybody would have flushed.
     flushToRest(state_);
-    schedule_.reserve(scene.commands.size());
-    for (const VoltageCommand& c : scene.commands)
-        schedule_.push_back({stepIndexAtOrAfter(c.t, model_.settings.dt), c.robot, c.drive()});
+    schedule_.reserve(scene_.commands.size());
+    for (std::size_t k = 0; k < scene_.commands.size(); ++k)
+        schedule_.push_back({stepIndexAtOrAfter(scene_.commands[k].t, model_.settings.dt), k});
     // Scenes list their commands in time order almost always: then there is
     // nothing to sort (a stable sort of a game's 12,000 commands cost as much
     // as simulating four seconds of it).
@@ -324,8 +324,8 @@ void Simulation::placeBall(const BallState& ball) {
 
 void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {
-        const ScheduledCommand& c = schedule_[nextCommand_++];
-        drive(c.robot, c.drive);
+        const VoltageCommand& c = scene_.commands[schedule_[nextCommand_++].command];
+        drive(c.robot, c.drive());
     }
 }
 

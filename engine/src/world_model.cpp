@@ -11,6 +11,8 @@ WorldModel makeWorldModel(const Scene& scene) {
     m.field = scene.field;
     m.settings = scene.simulation;
     m.ball = scene.ball_params;
+    m.robots.reserve(scene.robots.size());  // (a RobotModel is over 500 bytes: no regrowth)
+    m.sides.reserve(scene.robots.size());
     for (const RobotSpec& r : scene.robots) {
         m.robots.push_back(makeRobotModel(r.params));
         m.sides.push_back(r.params.side);
@@ -21,6 +23,8 @@ WorldModel makeWorldModel(const Scene& scene) {
 WorldState initialWorldState(const Scene& scene) {
     WorldState s;
     s.ball = scene.ball;
+    s.robots.reserve(scene.robots.size());
+    s.voltages.reserve(scene.robots.size());
     for (const RobotSpec& r : scene.robots) {
         s.robots.push_back(r.initial);
         s.voltages.push_back({});

@@ -178,10 +178,11 @@ public:
     void lendTableCache(ExactTableCache* cache) { lentTables_ = cache; }
 
 private:
+    // A command of scene_.commands (by index: a schedule of a thousand
+    // robots' commands stays small) and the step it takes effect at.
     struct ScheduledCommand {
         std::int64_t step;
-        int robot;
-        DriveCommand drive;
+        std::size_t command;
     };
     Scene scene_;
     WorldModel model_;
