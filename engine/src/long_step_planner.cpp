@@ -182,14 +182,14 @@ int Simulation::formGroups(const FrozenStart& start, double smallest) {
         claims_.push_back({c.x(), c.x(), c.y(), bodyReach(j) + travel, int(j), -1});
         return true;
     };
-    for (const int i : stepping_)
-        if (!disc(std::size_t(i))) return 0;
-    if (start.frozen[n] == kStepping && !disc(n)) return 0;
+    // (By x already: bodiesByX_ was sorted at this stretch's start, and
+    // nothing has moved since. So are the claims.)
+    for (const auto& [x, b] : bodiesByX_)
+        if (start.frozen[std::size_t(b)] == kStepping && !disc(std::size_t(b))) return 0;
     const std::size_t m = steppingByX_.size();
     if (m < 2) return 0;
     // Overlapping discs join (a union-find whose roots are each set's lowest
     // body index): a sweep along x.
-    std::sort(steppingByX_.begin(), steppingByX_.end());
     groupRoot_.resize(n + 1);
     for (const auto& entry : steppingByX_) groupRoot_[entry.second] = entry.second;
     auto root = [this](int b) {
@@ -231,8 +231,6 @@ int Simulation::formGroups(const FrozenStart& start, double smallest) {
         c.group = groupOf_[c.body];
         claimsWidest_ = std::max(claimsWidest_, c.reach);
     }
-    std::sort(claims_.begin(), claims_.end(),
-              [](const Claim& a, const Claim& b) { return a.key < b.key || (a.key == b.key && a.body < b.body); });
     claimOf_.resize(n + 1);
     for (std::size_t k = 0; k < claims_.size(); ++k) claimOf_[claims_[k].body] = k;
     return groups;
@@ -328,6 +326,30 @@ void Simulation::addToFrozenOrder(FrozenStart& start, std::vector<int>& added) c
                            byX);
     for (const int b : added)
         start.widest = std::max(start.widest, bodyReach(static_cast<std::size_t>(b)) + start.travel[b]);
+}
+
+void Simulation::sortBodiesByX() {
+    const std::size_t n = state_.robots.size();
+    const bool fresh = bodiesByX_.size() != n + 1;
+    if (fresh) {
+        bodiesByX_.resize(n + 1);
+        for (std::size_t b = 0; b <= n; ++b) bodiesByX_[b].second = static_cast<int>(b);
+    }
+    for (auto& [x, b] : bodiesByX_) {
+        x = std::size_t(b) < n ? state_.robots[std::size_t(b)].x : state_.ball.x;
+        if (std::isnan(x)) x = INFINITY;  // (a strict order even then: no body is lost or repeated)
+    }
+    // (pair's order: by x, then by index.)
+    if (fresh) {
+        std::sort(bodiesByX_.begin(), bodiesByX_.end());
+        return;
+    }
+    for (std::size_t k = 1; k <= n; ++k) {
+        const std::pair<double, int> entry = bodiesByX_[k];
+        std::size_t j = k;
+        for (; j > 0 && entry < bodiesByX_[j - 1]; --j) bodiesByX_[j] = bodiesByX_[j - 1];
+        bodiesByX_[j] = entry;
+    }
 }
 
 int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::int64_t stretch,
@@ -805,12 +827,15 @@ AdvanceReport Simulation::advanceTo(std::int64_t target) {
         start.y[n] = state_.ball.y;
         start.robots = state_.robots;
         start.ball = state_.ball;
+        // The frozen bodies by x (as addToFrozenOrder would sort them).
+        sortBodiesByX();
         start.byX.clear();
         start.widest = 0.0;
-        newlyFrozen_.clear();
-        for (std::size_t i = 0; i <= n; ++i)
-            if (start.frozen[i]) newlyFrozen_.push_back(static_cast<int>(i));
-        addToFrozenOrder(start, newlyFrozen_);
+        for (const auto& [x, b] : bodiesByX_) {
+            if (!start.frozen[std::size_t(b)]) continue;
+            start.byX.push_back(b);
+            start.widest = std::max(start.widest, bodyReach(std::size_t(b)) + start.travel[std::size_t(b)]);
+        }
         frozenRobots_.assign(start.frozen.begin(), start.frozen.begin() + static_cast<std::ptrdiff_t>(n));
         StepOptions options;
         options.freeRobots = &frozenRobots_;
