@@ -23,7 +23,7 @@ const char* kHelp =
     "Benchmarks (default: all):\n"
     "  work-precision   position error against run time, each integrator and step (work_precision.csv)\n"
     "  realtime         real-time factor of the 3-vs-3 scene headless (realtime.csv)\n"
-    "  scale            cost per robot from 6 to 1000 robots, broad phase on/off (scale.csv)\n"
+    "  scale            cost per robot from 6 to 1000 robots (5 crowds each), broad phase on/off (scale.csv)\n"
     "  stability        each integrator's stability limit in step size (stability.csv)\n"
     "  serve            vssim serve in real time for a minute: command latency, image period and\n"
     "                   jitter, render/encode time, bytes per frame (serve.csv)\n"
