@@ -149,19 +149,8 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     // few moving among a thousand cost little. In index order either way.
     const std::vector<int>& moving = movingRobots;
     scratch.pairs.clear();
-    if (model.settings.broad_phase && static_cast<int>(moving.size()) >= kBroadPhaseMinRobots) {
-        scratch.movingPoses.clear();
-        scratch.movingSides.clear();
-        for (const int i : moving) {
-            scratch.movingPoses.push_back(state.robots[i]);
-            scratch.movingSides.push_back(model.sides[i]);
-        }
-        candidatePairs(scratch.movingPoses, scratch.movingSides, fastest * horizon, scratch.broadPhase, scratch.pairs);
-        for (auto& [i, j] : scratch.pairs) i = moving[i], j = moving[j];  // increasing: the order is kept
-    } else {
-        for (std::size_t a = 0; a < moving.size(); ++a)
-            for (std::size_t b = a + 1; b < moving.size(); ++b) scratch.pairs.emplace_back(moving[a], moving[b]);
-    }
+    listedCandidatePairs(moving, state.robots, model.sides, fastest * horizon, model.settings.broad_phase,
+                         scratch.listed, scratch.pairs);
     for (const auto& [i, j] : scratch.pairs) offer(std::size_t(i), std::size_t(j));
     if (ballMoving)
         for (const int i : moving) offer(n, std::size_t(i));

@@ -53,4 +53,25 @@ void candidatePairs(const std::vector<RobotState>& robots, const std::vector<dou
     std::sort(pairs.begin() + static_cast<std::ptrdiff_t>(first), pairs.end());
 }
 
+void listedCandidatePairs(const std::vector<int>& listed, const std::vector<RobotState>& robots,
+                          const std::vector<double>& sides, double margin, bool sweep, ListedPairsScratch& scratch,
+                          std::vector<std::pair<int, int>>& pairs) {
+    const std::size_t m = listed.size();
+    if (!sweep || static_cast<int>(m) < kBroadPhaseMinRobots) {
+        for (std::size_t a = 0; a < m; ++a)
+            for (std::size_t b = a + 1; b < m; ++b) pairs.emplace_back(listed[a], listed[b]);
+        return;
+    }
+    scratch.poses.clear();
+    scratch.sides.clear();
+    for (const int i : listed) {
+        scratch.poses.push_back(robots[std::size_t(i)]);
+        scratch.sides.push_back(sides[std::size_t(i)]);
+    }
+    const std::size_t first = pairs.size();
+    candidatePairs(scratch.poses, scratch.sides, margin, scratch.sweep, pairs);
+    // Back to robot indices: the list increases, so the order is kept.
+    for (std::size_t k = first; k < pairs.size(); ++k) pairs[k] = {listed[pairs[k].first], listed[pairs[k].second]};
+}
+
 }  // namespace vssim

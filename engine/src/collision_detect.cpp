@@ -172,24 +172,11 @@ std::vector<Contact> detectContacts(const Field& field, const BodiesView& bodies
     };
     if (bodies.listedRobots) {
         // Among the listed robots only: their pairs come out sorted either
-        // way (candidatePairs sorts; the list increases), as from all robots.
-        const std::vector<int>& listed = *bodies.listedRobots;
-        const int m = static_cast<int>(listed.size());
-        if (bodies.broadPhase && m >= kBroadPhaseMinRobots) {
-            std::vector<RobotState> poses;
-            std::vector<double> listedSides;
-            for (const int i : listed) {
-                poses.push_back(robots[i]);
-                listedSides.push_back(sides[i]);
-            }
-            BroadPhaseScratch fresh;
-            std::vector<std::pair<int, int>> pairs;
-            candidatePairs(poses, listedSides, 0.0, fresh, pairs);
-            for (const auto& [a, b] : pairs) testPair(listed[a], listed[b]);
-        } else {
-            for (int a = 0; a < m; ++a)
-                for (int b = a + 1; b < m; ++b) testPair(listed[a], listed[b]);
-        }
+        // way, as from all robots.
+        ListedPairsScratch scratch;
+        std::vector<std::pair<int, int>> pairs;
+        listedCandidatePairs(*bodies.listedRobots, robots, sides, 0.0, bodies.broadPhase, scratch, pairs);
+        for (const auto& [i, j] : pairs) testPair(i, j);
     } else if (bodies.broadPhase) {
         BroadPhaseScratch fresh;
         std::vector<std::pair<int, int>> pairs;

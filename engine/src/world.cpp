@@ -125,6 +125,19 @@ static void integrateRobotBy(const WorldModel& model, WorldState& state, std::si
         integrateRobotExact(robotModel, makeExactStepTable(robotModel, h, panels), robot, state.voltages[i]);
 }
 
+// Integrates the listed robots (and the ball, when `ball`) by h, no
+// contacts, at a cost that grows with them only, and flushes their tiny
+// speeds: stepWorld's listed steps and Simulation::advanceListed.
+static void integrateListed(const WorldModel& model, WorldState& state, const std::vector<int>& robots, bool ball,
+                            double h, ExactTableCache* tables) {
+    for (const int i : robots) {
+        integrateRobotBy(model, state, static_cast<std::size_t>(i), h, tables);
+        flushToRest(state.robots[static_cast<std::size_t>(i)]);
+    }
+    if (ball && !atRest(state.ball)) integrateBall(model.ball, state.ball, h, model.settings.integrator);
+    if (ball) flushToRest(state.ball);
+}
+
 StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const StepOptions& options) {
     StepReport report;
     report.substeps = substepsFor(model, state, h, options);
@@ -151,19 +164,14 @@ StepReport stepWorld(const WorldModel& model, WorldState& state, double h, const
                           listed ? options.steppingRobots : nullptr};
 
     for (int s = 0; s < report.substeps; ++s) {
-        if (listed) {
-            for (const int i : *options.steppingRobots) integrateRobotBy(model, state, i, sub, options.tables);
+        if (listed) {  // (the free bodies were flushed when they last moved, or set: Simulation)
+            integrateListed(model, state, *options.steppingRobots, !options.freeBall, sub, options.tables);
         } else {
             for (std::size_t i = 0; i < state.robots.size(); ++i)
                 if (!options.frozen || !options.freeRobots || !(*options.freeRobots)[i])
                     integrateRobotBy(model, state, i, sub, options.tables);
-        }
-        if (!(options.frozen && options.freeBall) && !atRest(state.ball))
-            integrateBall(model.ball, state.ball, sub, model.settings.integrator);
-        if (listed) {  // (the free bodies were flushed when they last moved, or set: Simulation)
-            for (const int i : *options.steppingRobots) flushToRest(state.robots[i]);
-            if (!options.freeBall) flushToRest(state.ball);
-        } else {
+            if (!(options.frozen && options.freeBall) && !atRest(state.ball))
+                integrateBall(model.ball, state.ball, sub, model.settings.integrator);
             flushToRest(state);
         }
 
@@ -330,12 +338,7 @@ void Simulation::applyDueCommands() {
 }
 
 void Simulation::advanceListed(double h, const std::vector<int>& robots, bool ball) {
-    for (const int i : robots) {
-        integrateRobotBy(model_, state_, static_cast<std::size_t>(i), h, tables());
-        flushToRest(state_.robots[i]);
-    }
-    if (ball && !atRest(state_.ball)) integrateBallExact(model_.ball, state_.ball, h);
-    if (ball) flushToRest(state_.ball);
+    integrateListed(model_, state_, robots, ball, h, tables());
 }
 
 void Simulation::advanceBodies(double h, const std::vector<char>* robots, bool ball) {

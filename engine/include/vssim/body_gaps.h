@@ -67,9 +67,7 @@ double closingSpeed(const Separation& s, const MotionBound& a, const MotionBound
 struct BodyGapScratch {
     std::vector<MotionBound> bounds;  // per body (robots, then the ball), over the horizon
     std::vector<std::pair<int, int>> pairs;
-    std::vector<RobotState> movingPoses;
-    std::vector<double> movingSides;
-    BroadPhaseScratch broadPhase;
+    ListedPairsScratch listed;  // the moving robots' broad phase
 };
 
 // Appends to `out` (cleared first) the gap of every pair of a moving body

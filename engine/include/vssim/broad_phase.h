@@ -33,4 +33,18 @@ struct BroadPhaseScratch {
 void candidatePairs(const std::vector<RobotState>& robots, const std::vector<double>& sides, double margin,
                     BroadPhaseScratch& scratch, std::vector<std::pair<int, int>>& pairs);
 
+// The same among the listed robots only (`listed`: increasing indices into
+// robots and sides), at a cost that grows with the list, not with the
+// robots: the pairs come as robot indices, sorted the same way. With
+// `sweep` false, or fewer than kBroadPhaseMinRobots listed, every listed
+// pair, in that order too. (The planner's moving robots among many at rest.)
+struct ListedPairsScratch {
+    BroadPhaseScratch sweep;         // kept between calls, as above
+    std::vector<RobotState> poses;   // the listed robots'
+    std::vector<double> sides;       // m
+};
+void listedCandidatePairs(const std::vector<int>& listed, const std::vector<RobotState>& robots,
+                          const std::vector<double>& sides, double margin, bool sweep, ListedPairsScratch& scratch,
+                          std::vector<std::pair<int, int>>& pairs);
+
 }  // namespace vssim
