@@ -2,12 +2,14 @@
 // determinism, and the paper's Figure 13.
 #include <QtTest>
 
+#include <optional>
 #include <random>
 
 #include "test_support.h"
 #include "vssim/collision_detect.h"
 #include "vssim/exact_integrator.h"
 #include "vssim/geometry.h"
+#include "vssim/state_hash.h"
 #include "vssim/world.h"
 
 using namespace vssim;
@@ -75,6 +77,7 @@ class TestWorld : public QObject {
     Q_OBJECT
 private slots:
     void commandTakesEffectAtItsStep();
+    void commandsApplyInTimeThenFileOrder();
     void voltagesAreClampedWhenApplied();
     void freeRobotMatchesIntegrator();
     void pileStaysSane_data();
@@ -163,6 +166,31 @@ void TestWorld::commandTakesEffectAtItsStep() {
     QCOMPARE(sim.state().voltages[0].right, 5.0);
     QVERIFY(sim.state().robots[0].v > 0.0);
     QCOMPARE(sim.state().time, 31 * 0.001);
+}
+
+void TestWorld::commandsApplyInTimeThenFileOrder() {
+    // Commands in any order in the scene take effect in time order, and of
+    // two at the same step the later in the file wins (the schedule keeps
+    // indices into the scene's list: a copy of the simulation must read its
+    // own copy of it).
+    Scene scene;
+    scene.robots.push_back(test::robotAt("a", 0, 0, 0));
+    scene.robots.push_back(test::robotAt("b", 0.5, 0, 0));
+    scene.commands = {{0.005, 0, {1.0, 1.0}}, {0.002, 0, {2.0, 2.0}}, {0.002, 0, {3.0, 3.0}},
+                      {0.0045, 1, {4.0, -4.0}}, {0.0, 1, {0.5, 0.5}}};
+    Simulation sim(scene);
+    const std::vector<std::pair<double, double>> expected = {  // right voltages of a, b after each step boundary
+        {0.0, 0.5}, {0.0, 0.5}, {3.0, 0.5}, {3.0, 0.5}, {3.0, 0.5}, {1.0, 4.0}, {1.0, 4.0}};
+    std::optional<Simulation> copy;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        if (k == 3) copy.emplace(sim);  // taken mid-schedule
+        sim.step();
+        if (copy) copy->step();
+        QCOMPARE(sim.state().voltages[0].right, expected[k].first);
+        QCOMPARE(sim.state().voltages[1].right, expected[k].second);
+        if (copy) QCOMPARE(hashState(copy->state()), hashState(sim.state()));
+    }
+    QCOMPARE(sim.state().voltages[1].left, -4.0);
 }
 
 void TestWorld::voltagesAreClampedWhenApplied() {
