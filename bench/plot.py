@@ -72,7 +72,7 @@ def scale(rows, out):
                       style, label=label)
     ax.set_xlabel("robots")
     ax.set_ylabel("run time per robot per simulated second [us]")
-    ax.set_title("Scale (random voltages every 30 ms, the 3-vs-3 density)")
+    ax.set_title("Scale (random voltages every 30 ms, the 3-vs-3 density; mean of the crowds)")
     ax.grid(True, which="both", lw=0.3)
     ax.legend()
     fig.tight_layout()
