@@ -231,11 +231,12 @@ private:
     // to byX, keeping it sorted (the added ones sorted, then merged), and to
     // widest. It sorts them in place.
     void addToFrozenOrder(FrozenStart& start, std::vector<int>& added) const;
-    // bodiesByX_ sorted by the bodies' x now (ties by index; a centre that
-    // is not a number last): an insertion sort of the last stretch's order,
-    // about one pass since bodies move little in a stretch (sorting the
-    // frozen bodies afresh at every stretch cost a thousand robots 3 % of
-    // their run, and formGroups sorted the stepping ones twice more).
+    // bodiesByX_ sorted by the bodies' x now (ties by index; an x that is
+    // not a number counts as +infinity): an insertion sort of the last
+    // stretch's order, about one pass since bodies move little in a stretch
+    // (sorting the frozen bodies afresh at every stretch cost a thousand
+    // robots 3 % of their run, and formGroups sorted the stepping ones
+    // twice more).
     void sortBodiesByX();
     // Body b of the planner's numbering (the robots, then the ball as body
     // n, the robot count): the radius of the disc around its centre that
