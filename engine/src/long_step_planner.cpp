@@ -245,8 +245,31 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
         return false;
     }
     // What an undone stretch goes back to.
-    stretchStart_ = state_;
-    frozenBefore_ = start;
+    GroupUndo& undo = groupUndo_;
+    undo.robots.clear();
+    undo.frozenRobots.clear();
+    undo.since.clear();
+    undo.x.clear();
+    undo.y.clear();
+    undo.travel.clear();
+    auto saveEntry = [&](std::size_t b) {
+        undo.since.push_back(start.since[b]);
+        undo.x.push_back(start.x[b]);
+        undo.y.push_back(start.y[b]);
+        undo.travel.push_back(start.travel[b]);
+    };
+    for (const int i : stepping_) {
+        undo.robots.push_back(state_.robots[std::size_t(i)]);
+        undo.frozenRobots.push_back(start.robots[std::size_t(i)]);
+        saveEntry(std::size_t(i));
+    }
+    saveEntry(n);
+    undo.ball = state_.ball;
+    undo.frozenBall = start.ball;
+    undo.frozen = start.frozen;
+    undo.byX = start.byX;
+    undo.widest = start.widest;
+    undo.fastest = start.fastest;
     frozenRobotsBefore_ = frozenRobots_;
     steppingListBefore_ = stepping_;
     const AdvanceReport reportBefore = report;
@@ -284,10 +307,28 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
         ++report.groupedStretches;
         return true;
     }
-    state_ = stretchStart_;
-    start = frozenBefore_;
-    frozenRobots_ = frozenRobotsBefore_;
+    // (Only the bodies stepping at the start moved or froze.)
+    auto restoreEntry = [&](std::size_t b, std::size_t k) {
+        start.since[b] = undo.since[k];
+        start.x[b] = undo.x[k];
+        start.y[b] = undo.y[k];
+        start.travel[b] = undo.travel[k];
+    };
     stepping_ = steppingListBefore_;
+    for (std::size_t k = 0; k < stepping_.size(); ++k) {
+        const std::size_t i = std::size_t(stepping_[k]);
+        state_.robots[i] = undo.robots[k];
+        start.robots[i] = undo.frozenRobots[k];
+        restoreEntry(i, k);
+    }
+    restoreEntry(n, stepping_.size());
+    state_.ball = undo.ball;
+    start.ball = undo.frozenBall;
+    start.frozen = undo.frozen;
+    start.byX = undo.byX;
+    start.widest = undo.widest;
+    start.fastest = undo.fastest;
+    frozenRobots_ = frozenRobotsBefore_;
     report = reportBefore;
     options = optionsBefore;
     ++report.groupFallbacks;
