@@ -236,6 +236,44 @@ int Simulation::formGroups(const FrozenStart& start, double smallest) {
     return groups;
 }
 
+void Simulation::keepGroupUndo(FrozenStart& start, bool save) {
+    GroupUndo& undo = groupUndo_;
+    const auto keep = [save](auto& kept, auto& live) {
+        if (save)
+            kept = live;
+        else
+            live = kept;
+    };
+    keep(undo.stepping, stepping_);  // (first: the list below)
+    const std::size_t m = stepping_.size(), n = state_.robots.size();
+    if (save) {
+        undo.robots.resize(m);
+        undo.frozenRobots.resize(m);
+        undo.since.resize(m + 1);
+        undo.x.resize(m + 1);
+        undo.y.resize(m + 1);
+        undo.travel.resize(m + 1);
+    }
+    for (std::size_t k = 0; k <= m; ++k) {  // stepping_'s robots, then the ball
+        const std::size_t b = k < m ? std::size_t(stepping_[k]) : n;
+        if (k < m) {
+            keep(undo.robots[k], state_.robots[b]);
+            keep(undo.frozenRobots[k], start.robots[b]);
+        }
+        keep(undo.since[k], start.since[b]);
+        keep(undo.x[k], start.x[b]);
+        keep(undo.y[k], start.y[b]);
+        keep(undo.travel[k], start.travel[b]);
+    }
+    keep(undo.ball, state_.ball);
+    keep(undo.frozenBall, start.ball);
+    keep(undo.frozen, start.frozen);
+    keep(undo.byX, start.byX);
+    keep(undo.widest, start.widest);
+    keep(undo.fastest, start.fastest);
+    keep(undo.frozenRobotFlags, frozenRobots_);
+}
+
 bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepOptions& options,
                               AdvanceReport& report) {
     const std::size_t n = state_.robots.size();
@@ -245,33 +283,7 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
         return false;
     }
     // What an undone stretch goes back to.
-    GroupUndo& undo = groupUndo_;
-    undo.robots.clear();
-    undo.frozenRobots.clear();
-    undo.since.clear();
-    undo.x.clear();
-    undo.y.clear();
-    undo.travel.clear();
-    auto saveEntry = [&](std::size_t b) {
-        undo.since.push_back(start.since[b]);
-        undo.x.push_back(start.x[b]);
-        undo.y.push_back(start.y[b]);
-        undo.travel.push_back(start.travel[b]);
-    };
-    for (const int i : stepping_) {
-        undo.robots.push_back(state_.robots[std::size_t(i)]);
-        undo.frozenRobots.push_back(start.robots[std::size_t(i)]);
-        saveEntry(std::size_t(i));
-    }
-    saveEntry(n);
-    undo.ball = state_.ball;
-    undo.frozenBall = start.ball;
-    undo.frozen = start.frozen;
-    undo.byX = start.byX;
-    undo.widest = start.widest;
-    undo.fastest = start.fastest;
-    frozenRobotsBefore_ = frozenRobots_;
-    steppingListBefore_ = stepping_;
+    keepGroupUndo(start, true);
     const AdvanceReport reportBefore = report;
     const StepOptions optionsBefore = options;
     // Everybody stands aside, then each group steps in turn (those frozen
@@ -307,28 +319,7 @@ bool Simulation::stepInGroups(FrozenStart& start, const StretchLoop& loop, StepO
         ++report.groupedStretches;
         return true;
     }
-    // (Only the bodies stepping at the start moved or froze.)
-    auto restoreEntry = [&](std::size_t b, std::size_t k) {
-        start.since[b] = undo.since[k];
-        start.x[b] = undo.x[k];
-        start.y[b] = undo.y[k];
-        start.travel[b] = undo.travel[k];
-    };
-    stepping_ = steppingListBefore_;
-    for (std::size_t k = 0; k < stepping_.size(); ++k) {
-        const std::size_t i = std::size_t(stepping_[k]);
-        state_.robots[i] = undo.robots[k];
-        start.robots[i] = undo.frozenRobots[k];
-        restoreEntry(i, k);
-    }
-    restoreEntry(n, stepping_.size());
-    state_.ball = undo.ball;
-    start.ball = undo.frozenBall;
-    start.frozen = undo.frozen;
-    start.byX = undo.byX;
-    start.widest = undo.widest;
-    start.fastest = undo.fastest;
-    frozenRobots_ = frozenRobotsBefore_;
+    keepGroupUndo(start, false);
     report = reportBefore;
     options = optionsBefore;
     ++report.groupFallbacks;

@@ -378,6 +378,8 @@ private:
     // flags and order, and the lists below (a copy of the whole world and
     // of FrozenStart cost a thousand robots about a tenth of their run).
     struct GroupUndo {
+        std::vector<int> stepping;             // stepping_
+        std::vector<char> frozenRobotFlags;    // frozenRobots_
         std::vector<RobotState> robots;        // state_.robots[i] for i in stepping_, in its order
         std::vector<RobotState> frozenRobots;  // start.robots[i], the same
         std::vector<std::int64_t> since;       // start.since, x, y, travel: stepping_'s robots, then the ball
@@ -388,8 +390,8 @@ private:
         double widest = 0.0, fastest = 0.0;    // start.widest, start.fastest
     };
     GroupUndo groupUndo_;
-    std::vector<char> frozenRobotsBefore_;
-    std::vector<int> steppingListBefore_;
+    // Saves the above (`save`) at a grouped stretch's start, or puts it back.
+    void keepGroupUndo(FrozenStart& start, bool save);
     std::vector<int> groupMembers_;  // formGroups': the robots of group g at groupFirst_[g] to groupFirst_[g + 1]
     std::vector<std::size_t> groupFirst_, groupFill_;
 };
