@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vssim/geometry.h"
+#include "vssim/nearly_sorted.h"
 
 namespace vssim {
 
@@ -29,14 +30,7 @@ void candidatePairs(const std::vector<RobotState>& robots, const std::vector<dou
         return a < b;
     };
     if (reuse) {
-        // Bodies move little between calls: insertion sort of the previous
-        // order is about linear.
-        for (int k = 1; k < n; ++k) {
-            const int moving = scratch.order[k];
-            int l = k;
-            for (; l > 0 && before(moving, scratch.order[l - 1]); --l) scratch.order[l] = scratch.order[l - 1];
-            scratch.order[l] = moving;
-        }
+        sortNearlySorted(scratch.order, before);  // (the previous call's order)
     } else {
         std::sort(scratch.order.begin(), scratch.order.end(), before);
     }

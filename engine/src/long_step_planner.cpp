@@ -4,10 +4,12 @@
 // exact step while the others take steps of dt.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include "vssim/collision_response.h"
 #include "vssim/geometry.h"
+#include "vssim/nearly_sorted.h"
 #include "vssim/time_of_impact.h"
 #include "vssim/world.h"
 
@@ -376,12 +378,7 @@ void Simulation::sortBodiesByX() {
         std::sort(bodiesByX_.begin(), bodiesByX_.end());
         return;
     }
-    for (std::size_t k = 1; k <= n; ++k) {
-        const std::pair<double, int> entry = bodiesByX_[k];
-        std::size_t j = k;
-        for (; j > 0 && entry < bodiesByX_[j - 1]; --j) bodiesByX_[j] = bodiesByX_[j - 1];
-        bodiesByX_[j] = entry;
-    }
+    sortNearlySorted(bodiesByX_, std::less<std::pair<double, int>>());
 }
 
 int Simulation::freezeUnconstrained(FrozenStart& start, std::int64_t done, std::int64_t stretch,
