@@ -82,12 +82,6 @@ namespace {
 // length matches nothing, so it is never reused, as before any caching).
 bool tableIs(const ExactStepTable& t, double h, int panels) { return t.h == h && t.panels == panels; }
 
-// Whether two velocity matrices are the same bits: a matrix with a NaN is
-// then the same as itself, so it gets one set of tables, not one per call.
-bool sameBits(const Eigen::Matrix2d& a, const Eigen::Matrix2d& b) {
-    return std::memcmp(a.data(), b.data(), 4 * sizeof(double)) == 0;
-}
-
 std::size_t slotOf(double h, int panels, std::size_t slots) {
     std::uint64_t bits;
     std::memcpy(&bits, &h, sizeof bits);
@@ -100,37 +94,37 @@ std::size_t slotOf(double h, int panels, std::size_t slots) {
 
 }  // namespace
 
-const ExactStepTable& ExactTableCache::table(int robot, const RobotModel& model, double h, int panels) {
+const ExactStepTable& ExactTableCache::lookUp(int robot, const RobotModel& model, double h, int panels) {
     panels = std::max(1, panels);  // as makeExactStepTable reads it
     if (h == 0.0) h = 0.0;         // -0 as +0: one key, one slot
-    if (robot >= static_cast<int>(dynamicsOf_.size())) dynamicsOf_.resize(robot + 1, -1);
-    int& index = dynamicsOf_[robot];
-    // (Checked on every call, four compares, so that a robot whose model were
-    // replaced could never be handed another model's tables.)
-    if (index < 0 || !sameBits(dynamics_[index].A, model.A)) {
-        index = -1;
-        for (std::size_t d = 0; d < dynamics_.size() && index < 0; ++d)
-            if (sameBits(dynamics_[d].A, model.A)) index = static_cast<int>(d);
-        if (index < 0) {
+    if (robot >= static_cast<int>(robots_.size())) robots_.resize(robot + 1);
+    RobotEntry& entry = robots_[robot];
+    if (entry.dynamics < 0 || !sameA(dynamics_[entry.dynamics].A, model.A)) {
+        entry.dynamics = -1;
+        entry.last = -1;
+        for (std::size_t d = 0; d < dynamics_.size() && entry.dynamics < 0; ++d)
+            if (sameA(dynamics_[d].A, model.A)) entry.dynamics = static_cast<int>(d);
+        if (entry.dynamics < 0) {
             Dynamics fresh;
             fresh.A = model.A;
             fresh.index.assign(kSlots, -1);
             dynamics_.push_back(std::move(fresh));
-            index = static_cast<int>(dynamics_.size()) - 1;
+            entry.dynamics = static_cast<int>(dynamics_.size()) - 1;
         }
     }
-    Dynamics& mine = dynamics_[index];
-    if (mine.last >= 0 && tableIs(mine.built[mine.last], h, panels)) return mine.built[mine.last];
+    Dynamics& mine = dynamics_[entry.dynamics];
     std::size_t slot = slotOf(h, panels, kSlots);
     for (; mine.index[slot] >= 0; slot = (slot + 1) & (kSlots - 1))  // linear probing; never full (kSlots > kMaxPerModel)
-        if (tableIs(mine.built[mine.index[slot]], h, panels)) return mine.built[mine.last = mine.index[slot]];
+        if (tableIs(mine.built[mine.index[slot]], h, panels)) return mine.built[entry.last = mine.index[slot]];
     if (mine.built.size() >= kMaxPerModel) {
         mine.built.clear();
         std::fill(mine.index.begin(), mine.index.end(), -1);
+        for (RobotEntry& r : robots_)  // their last tables are gone
+            if (r.dynamics == entry.dynamics) r.last = -1;
         slot = slotOf(h, panels, kSlots);
     }
     mine.built.push_back(makeExactStepTable(model, h, panels));
-    mine.index[slot] = mine.last = static_cast<int>(mine.built.size()) - 1;
+    mine.index[slot] = entry.last = static_cast<int>(mine.built.size()) - 1;
     return mine.built.back();
 }
 

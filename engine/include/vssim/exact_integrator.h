@@ -14,7 +14,9 @@
 // solution, and it costs many more evaluations per 30 ms interval).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -65,14 +67,32 @@ int exactPanelsFor(const RobotModel& model, const RobotState& state, const Volta
 // the same robot: every robot of a default scene) share theirs. A cache
 // only: the results are the same whether a table is reused or rebuilt.
 // A lookup is a hash probe (a step of any length, such as the instant of a
-// contact, gets its own key), after a check of the key asked for last, which
-// is what the robots of one step ask for in turn.
+// contact, gets its own key), after a check of the key the same robot asked
+// for last, which is what it asks for again in most steps (its panel count
+// changes seldom), inline.
 class ExactTableCache {
 public:
     // The table stays valid until the next call.
-    const ExactStepTable& table(int robot, const RobotModel& model, double h, int panels);
+    const ExactStepTable& table(int robot, const RobotModel& model, double h, int panels) {
+        if (robot >= 0 && static_cast<std::size_t>(robot) < robots_.size()) {
+            const RobotEntry& r = robots_[robot];
+            // (The A check, four compares, on every call: a robot whose model
+            // were replaced could never be handed another model's tables.)
+            if (r.last >= 0 && sameA(dynamics_[r.dynamics].A, model.A)) {
+                const ExactStepTable& t = dynamics_[r.dynamics].built[r.last];
+                if (t.h == h && t.panels == std::max(1, panels)) return t;
+            }
+        }
+        return lookUp(robot, model, h, panels);
+    }
 
 private:
+    const ExactStepTable& lookUp(int robot, const RobotModel& model, double h, int panels);
+    // Whether two velocity matrices are the same bits: a matrix with a NaN is
+    // then the same as itself, so it gets one set of tables, not one per call.
+    static bool sameA(const Eigen::Matrix2d& a, const Eigen::Matrix2d& b) {
+        return std::memcmp(a.data(), b.data(), 4 * sizeof(double)) == 0;
+    }
     // A scene of many step lengths must not grow it forever (a table is
     // about 1 to 3 kB): when full, a model's tables are dropped and rebuilt
     // as they are asked for again.
@@ -82,9 +102,12 @@ private:
         Eigen::Matrix2d A;                  // the model's velocity matrix, the tables' only input besides the key
         std::vector<ExactStepTable> built;  // at most kMaxPerModel (may move when one is added)
         std::vector<int> index;             // kSlots entries: an index into built, or -1
-        int last = -1;                      // the index asked for last
     };
-    std::vector<int> dynamicsOf_;     // robot -> index into dynamics_, -1 before its first table
+    struct RobotEntry {
+        int dynamics = -1;  // index into dynamics_, -1 before the robot's first table
+        int last = -1;      // index into that one's built: the table the robot asked for last, or -1
+    };
+    std::vector<RobotEntry> robots_;
     std::vector<Dynamics> dynamics_;  // distinct A matrices, in order of first use
 };
 
