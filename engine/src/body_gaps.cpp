@@ -121,10 +121,9 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     std::vector<MotionBound>& bounds = scratch.bounds;
     bounds.resize(n + 1);  // (only the moving bodies' entries are set and read)
     double fastest = 0.0;  // m/s
-    ModeProgress progress;  // shared by robots of the same rates
     for (const int i : movingRobots) {
         bounds[i] = robotMotionBound(model.robots[i], state.robots[i], state.voltages[i], model.sides[i],
-                                     modeProgressFor(model.robots[i], horizon, progress));
+                                     scratch.progress.get(model.robots[i], horizon));
         fastest = std::max(fastest, bounds[i].pointSpeed);
     }
     bounds[n] = ballMoving ? ballMotionBound(state.ball) : MotionBound{};

@@ -15,16 +15,15 @@ namespace vssim {
 // stability region), so for them: twice the speed bound, and only for one
 // step well inside their stability regions; beyond that nothing is promised.
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon) {
-    ModeProgress progress;
+    ModeProgressCache progress;
     return robotTravelForIntegrator(model, state, i, horizon, progress);
 }
 
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon,
-                                ModeProgress& progress) {
+                                ModeProgressCache& progress) {
     const RobotModel& robot = model.robots[i];
     if (model.settings.integrator == Integrator::Exact) {
-        return robotTravelBound(robot, state.robots[i], state.voltages[i], modeProgressFor(robot, horizon, progress),
-                                0.0);
+        return robotTravelBound(robot, state.robots[i], state.voltages[i], progress.get(robot, horizon), 0.0);
     }
     if (!(horizon * robot.fastestRate <= 2.0)) return INFINITY;
     return 2.0 * velocityBound(robot, state.robots[i], state.voltages[i])(0) * horizon;
@@ -43,9 +42,8 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     const std::size_t n = state.robots.size();
     out.robotTravel.resize(n);
     double farthest = 0.0;  // m
-    ModeProgress progress;  // shared by robots of the same rates
     for (std::size_t i = 0; i < n; ++i) {
-        out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon, progress);
+        out.robotTravel[i] = robotTravelForIntegrator(model, state, i, horizon, out.progress);
         farthest = std::max(farthest, out.robotTravel[i]);
     }
     out.ballTravel = ballTravelForIntegrator(model, state, horizon);
@@ -82,17 +80,18 @@ void findFreeBodies(const WorldModel& model, const WorldState& state, double hor
     }
     // Only pairs whose discs, grown by the farthest any body can go, overlap
     // can limit each other.
-    out.pairs.clear();
-    if (useBroadPhase(model, state)) {
-        candidatePairs(state.robots, model.sides, farthest, out.broadPhase, out.pairs);
-    } else {
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t j = i + 1; j < n; ++j) out.pairs.emplace_back(int(i), int(j));
-    }
-    for (const auto& [i, j] : out.pairs) {
+    auto pairMayMeet = [&](std::size_t i, std::size_t j) {
         const double dx = state.robots[i].x - state.robots[j].x, dy = state.robots[i].y - state.robots[j].y;
         const double gap = std::sqrt(dx * dx + dy * dy) - reach(i) - reach(j);
         if (!(gap > out.robotTravel[i] + out.robotTravel[j])) out.robots[i] = 0, out.robots[j] = 0;
+    };
+    out.pairs.clear();
+    if (useBroadPhase(model, state)) {
+        candidatePairs(state.robots, model.sides, farthest, out.broadPhase, out.pairs);
+        for (const auto& [i, j] : out.pairs) pairMayMeet(std::size_t(i), std::size_t(j));
+    } else {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j) pairMayMeet(i, j);
     }
     out.all = out.ball && std::all_of(out.robots.begin(), out.robots.end(), [](char f) { return f != 0; });
 }

@@ -7,11 +7,6 @@ namespace vssim {
 
 namespace {
 
-Eigen::Vector2d heading(double theta) {
-    const CosSin r = cosSin(theta);
-    return {r.c, r.s};
-}
-
 // Half-extent of a square (half side h, axes u, u_perp) projected on a unit axis.
 double projectedHalfExtent(double half, const Eigen::Vector2d& u, const Eigen::Vector2d& axis) {
     const Eigen::Vector2d perp(-u.y(), u.x());
@@ -62,7 +57,12 @@ bool pointInRobot(const RobotState& pose, double side, const Eigen::Vector2d& p,
 }
 
 SquareOverlap squareOverlap(const RobotState& a, double sideA, const RobotState& b, double sideB) {
-    const Eigen::Vector2d ua = heading(a.theta), ub = heading(b.theta);
+    return squareOverlap(a, cosSin(a.theta), sideA, b, cosSin(b.theta), sideB);
+}
+
+SquareOverlap squareOverlap(const RobotState& a, const CosSin& headingA, double sideA, const RobotState& b,
+                            const CosSin& headingB, double sideB) {
+    const Eigen::Vector2d ua(headingA.c, headingA.s), ub(headingB.c, headingB.s);
     const Eigen::Vector2d axes[4] = {ua, Eigen::Vector2d(-ua.y(), ua.x()), ub, Eigen::Vector2d(-ub.y(), ub.x())};
     const Eigen::Vector2d centres(a.x - b.x, a.y - b.y);  // from B to A
     SquareOverlap best;

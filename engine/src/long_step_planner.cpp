@@ -52,7 +52,7 @@ double Simulation::bodySpeed(std::size_t b) const {
 }
 
 double Simulation::bodyTravel(std::size_t b, double horizon) const {
-    return b < state_.robots.size() ? robotTravelForIntegrator(model_, state_, b, horizon)
+    return b < state_.robots.size() ? robotTravelForIntegrator(model_, state_, b, horizon, progress_)
                                     : ballTravelForIntegrator(model_, state_, horizon);
 }
 
@@ -563,12 +563,11 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     // again at every instant it reaches; the bound along the gap's normal at
     // the step's start holds from the start only, enough to skip a pair that
     // cannot close within the step at all.
-    ModeProgress progress;  // shared by robots of the same rates
     auto boundWithinStep = [&](const BodyRef& body) {
         if (body.kind == BodyKind::Ball) return ballMotionBound(stepStartBall_);
         const int i = body.index;
         return robotMotionBound(model_.robots[i], stepStartRobots_[i], state_.voltages[i], model_.sides[i],
-                                modeProgressFor(model_.robots[i], dt, progress));
+                                progress_.get(model_.robots[i], dt));
     };
     double first = dt;  // s into the step
     bool touched = false;

@@ -113,11 +113,6 @@ ModeProgress modeProgress(const RobotModel& model, double T) {
     return p;
 }
 
-const ModeProgress& modeProgressFor(const RobotModel& model, double T, ModeProgress& cache) {
-    if (!cache.fits(model, T)) cache = modeProgress(model, T);
-    return cache;
-}
-
 Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
                                     const ModeProgress& progress) {
     const Eigen::Vector2d u0(state.v, state.omega);

@@ -38,10 +38,9 @@ struct Nearest {
 struct Square {
     Eigen::Vector2d centre;
     double c, s, half;  // cos and sin of the heading; half the side, m
-    Square(const RobotState& robot, double side) : centre(robot.x, robot.y), half(0.5 * side) {
-        const CosSin r = cosSin(robot.theta);
-        c = r.c, s = r.s;
-    }
+    Square(const RobotState& robot, double side) : Square(robot, cosSin(robot.theta), side) {}
+    Square(const RobotState& robot, const CosSin& heading, double side)
+        : centre(robot.x, robot.y), c(heading.c), s(heading.s), half(0.5 * side) {}
     Eigen::Vector2d toLocal(const Eigen::Vector2d& p) const {
         const Eigen::Vector2d d = p - centre;
         return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
@@ -78,10 +77,11 @@ bool segmentOverlapsSquare(const Square& square, const Eigen::Vector2d& a, const
 }  // namespace
 
 Separation robotRobotSeparation(const RobotState& a, double sideA, const RobotState& b, double sideB) {
-    if (squareOverlap(a, sideA, b, sideB).overlapping) return Separation{0.0, true};
+    const CosSin headingA = cosSin(a.theta), headingB = cosSin(b.theta);
+    if (squareOverlap(a, headingA, sideA, b, headingB, sideB).overlapping) return Separation{0.0, true};
     // Apart: two convex polygons are nearest at a vertex of one and a point
     // of the other's boundary, so the nearest of each vertex to the other square.
-    const Square qa(a, sideA), qb(b, sideB);
+    const Square qa(a, headingA, sideA), qb(b, headingB, sideB);
     Nearest n;
     for (const Eigen::Vector2d& v : qa.vertices()) n.offer(v, qb.nearest(v));
     for (const Eigen::Vector2d& v : qb.vertices()) n.offer(qa.nearest(v), v);

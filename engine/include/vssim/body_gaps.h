@@ -68,6 +68,7 @@ struct BodyGapScratch {
     std::vector<MotionBound> bounds;  // per body (robots, then the ball), over the horizon
     std::vector<std::pair<int, int>> pairs;
     ListedPairsScratch listed;  // the moving robots' broad phase
+    ModeProgressCache progress;
 };
 
 // Appends to `out` (cleared first) the gap of every pair of a moving body

@@ -23,16 +23,16 @@ struct FreeBodies {
     double ballTravel = 0.0;                 // m
     std::vector<std::pair<int, int>> pairs;  // work buffers
     BroadPhaseScratch broadPhase;
+    ModeProgressCache progress;
 };
 void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out);
 
 // How far robot i's centre can go within `horizon` (s) as the scene's
 // integrator computes it, m; infinity when nothing is promised (free_bodies.cpp).
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon);
-// The same, reusing `progress` when it fits robot i and the horizon, else
-// computing it there (for a loop over robots).
+// The same, with the modes' progress over the horizon from `progress`.
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon,
-                                ModeProgress& progress);
+                                ModeProgressCache& progress);
 // How far the ball can go within `horizon` (s) in free flight, m.
 double ballTravelForIntegrator(const WorldModel& model, const WorldState& state, double horizon);
 

@@ -119,5 +119,8 @@ struct SquareOverlap {
     double depth = 0.0;
 };
 SquareOverlap squareOverlap(const RobotState& a, double sideA, const RobotState& b, double sideB);
+// The same with the headings' cosines and sines already computed (cosSin(a.theta), cosSin(b.theta)).
+SquareOverlap squareOverlap(const RobotState& a, const CosSin& headingA, double sideA, const RobotState& b,
+                            const CosSin& headingB, double sideB);
 
 }  // namespace vssim

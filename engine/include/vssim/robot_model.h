@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "vssim/robot_params.h"
 #include "vssim/robot_state.h"
@@ -73,7 +75,27 @@ struct ModeProgress {
 ModeProgress modeProgress(const RobotModel& model, double T);
 // `cache`, computed again for this model's rates and T only when it does
 // not fit them already (for a loop over robots).
-const ModeProgress& modeProgressFor(const RobotModel& model, double T, ModeProgress& cache);
+inline const ModeProgress& modeProgressFor(const RobotModel& model, double T, ModeProgress& cache) {
+    if (!cache.fits(model, T)) cache = modeProgress(model, T);
+    return cache;
+}
+// The progress over the few horizons a caller asks for again and again (the
+// long-step planner: a stretch of 30 steps, what remains of it, one step),
+// kept between calls instead of two exponentials per robot loop. A cache
+// only: the values are modeProgress's, bit for bit.
+class ModeProgressCache {
+public:
+    const ModeProgress& get(const RobotModel& model, double T) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &T, sizeof bits);
+        bits *= 0x9E3779B97F4A7C15ull;  // Fibonacci hashing: the top bits depend on the whole mantissa
+        return modeProgressFor(model, T, slots_[static_cast<std::size_t>(bits >> 60) & (kSlots - 1)]);
+    }
+
+private:
+    static constexpr std::size_t kSlots = 16;  // a power of two; a stretch's remainders are up to ~30 values
+    std::array<ModeProgress, kSlots> slots_;   // by T's bits; a slot holds the horizon asked for last
+};
 
 // Bounds on |v(t)| and |w(t)| over [0, T] only (m/s, rad/s), T =
 // progress.T (progress.fits(model, T)): each mode's share lies between its

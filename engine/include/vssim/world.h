@@ -360,6 +360,7 @@ private:
     std::vector<std::pair<double, int>> bodiesByX_;  // (x, body) of every body (the ball: n) at the last stretch's start, sorted
     std::vector<int> newlyFrozen_;     // the bodies frozen in one go (a stretch's start, or freezeUnconstrained)
     BodyGapScratch gapScratch_;
+    mutable ModeProgressCache progress_;  // impactStep's and bodyTravel's (a cache: const methods may fill it)
     std::vector<RobotPath> paths_;     // impactStep's robot paths over its step
     std::vector<char> pathReady_;
     std::vector<RobotState> stepStartRobots_;  // saveStepping's (stepping robots' entries only)
