@@ -315,6 +315,65 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
     std::tie(g, pointSpeed) = wallGap(runner, ahead);
     QVERIFY2(g.closing >= runner.v * std::sin(0.1) && g.closing <= pointSpeed,
              qPrintable(QString("closing %1 m/s").arg(g.closing)));
+    // Driving straight away from the wall, 2 mm from it, face on: its centre
+    // only draws away and its extent cannot grow (it does not turn), so
+    // nothing closes; |v| |cos| alone would say its full speed.
+    RobotState leaver;
+    leaver.x = 0.75 - side / 2 - 0.002, leaver.theta = M_PI, leaver.v = steadyStateVelocity(model, ahead)(0);
+    std::tie(g, pointSpeed) = wallGap(leaver, ahead);
+    QVERIFY(leaver.v > 1.0);
+    QVERIFY2(g.closing < 1e-9, qPrintable(QString("closing %1 m/s").arg(g.closing)));
+    // Backing away slowly under full reverse voltage: it stops, comes back
+    // and reaches the wall within the horizon. The bound must allow that no
+    // later than the exact motion does (sampled every 10 us).
+    const double full = RobotParams{}.max_voltage;
+    const Voltages back{-full, -full};
+    RobotState returner;
+    returner.x = 0.75 - side / 2 - 0.001, returner.theta = M_PI, returner.v = 0.05;
+    std::tie(g, pointSpeed) = wallGap(returner, back);
+    double touch = NAN;  // s
+    for (int k = 1; k <= 3000 && std::isnan(touch); ++k) {
+        RobotState r = returner;
+        const double t = k * 1e-5;
+        integrateRobotExact(model, makeExactStepTable(model, t, exactPanelsFor(model, r, back, t)), r, back);
+        if (r.x + side / 2 >= 0.75) touch = t;
+    }
+    QVERIFY2(!std::isnan(touch), "it reaches the wall within 30 ms");
+    QVERIFY2(g.closing > 0.0 && g.gap / g.closing <= touch,
+             qPrintable(QString("closing %1 m/s: not before %2 s, touches at %3 s").arg(g.closing).arg(g.gap / g.closing).arg(touch)));
+    // Spinning while it backs away: the corners swing out towards the wall
+    // although the centre draws away, and the bound must still see them.
+    RobotState twirler = leaver;
+    twirler.x = 0.75 - side / 2 - 0.001, twirler.v = 0.3, twirler.omega = 20.0;
+    const Voltages twirl{full, 0.0};
+    std::tie(g, pointSpeed) = wallGap(twirler, twirl);
+    touch = NAN;
+    for (int k = 1; k <= 3000 && std::isnan(touch); ++k) {
+        RobotState r = twirler;
+        const double t = k * 1e-5;
+        integrateRobotExact(model, makeExactStepTable(model, t, exactPanelsFor(model, r, twirl, t)), r, twirl);
+        if (robotWallSeparation(r, side, Wall{{0.75, -0.65}, {0.75, 0.65}, {-1.0, 0.0}}).overlapping) touch = t;
+    }
+    QVERIFY2(!std::isnan(touch), "its corner reaches the wall within 30 ms");
+    QVERIFY2(g.closing > 0.0 && g.gap / g.closing <= touch,
+             qPrintable(QString("closing %1 m/s: not before %2 s, touches at %3 s").arg(g.closing).arg(g.gap / g.closing).arg(touch)));
+    // A body (a point: no extent to grow) heading straight away from the
+    // other at 1 m/s whose heading may swing by 2 rad: past a right angle
+    // its centre comes back along n at up to -cos(2) m/s, which the bound
+    // must cover (the curvature term of cos; without it, nothing would close).
+    MotionBound away;
+    away.linear = away.forwardLow = away.forwardHigh = 1.0;
+    away.swing = 2.0;
+    away.turning = 20.0;
+    away.heading = cosSin(M_PI);  // heading -x; the other body (b) lies along +x: n, from b to a, is -x
+    const Separation apart{0.01, false, Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d::Zero()};
+    const double comeBack = closingSpeed(apart, away, nullptr, 10.0);
+    QVERIFY2(comeBack >= -std::cos(2.0) - 1e-12, qPrintable(QString("closing %1 m/s").arg(comeBack)));
+    // The same backing away: facing the other body, at -1 m/s.
+    away.forwardLow = away.forwardHigh = -1.0;
+    away.heading = cosSin(0.0);
+    const double backsIn = closingSpeed(apart, away, nullptr, 10.0);
+    QVERIFY2(backsIn >= -std::cos(2.0) - 1e-12, qPrintable(QString("closing %1 m/s").arg(backsIn)));
 }
 
 void TestTimeOfImpact::firstContactAgainstBruteForce_data() {

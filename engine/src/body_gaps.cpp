@@ -43,6 +43,17 @@ MotionBound robotMotionBound(const RobotModel& model, const RobotState& state, c
     const Eigen::Vector2d bound = velocityBoundWithin(model, state, e, progress);
     MotionBound m;
     m.linear = bound(0);
+    // v's range: each mode's share moves from P_k u0 straight towards P_k
+    // u_inf and has covered progress.covered[k] of the way at T (as in
+    // velocityBoundWithin, signed).
+    const Eigen::Vector2d u0(state.v, state.omega);
+    const Eigen::Vector2d steady = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    for (int k = 0; k < 2; ++k) {
+        const double start = model.modeProjector[k].row(0).dot(u0), end = model.modeProjector[k].row(0).dot(steady);
+        const double atHorizon = start + progress.covered[k] * (end - start);
+        m.forwardLow += std::min(start, atHorizon);
+        m.forwardHigh += std::max(start, atHorizon);
+    }
     m.turning = bound(1);
     m.swing = bound(1) * progress.T;
     m.heading = cosSin(state.theta);
@@ -78,7 +89,7 @@ namespace {
 // straight, slowing down: its speed along `towards` only falls, and its
 // extent is its radius.
 struct Approach {
-    double linear = 0.0;  // m/s: the centre's speed towards the other body, at most
+    double linear = 0.0;  // m/s: the centre's speed towards the other body, at most (< 0: away, at least that fast)
     double spin = 0.0;    // m/s: how fast the extent towards it can grow
     double room = 0.0;    // m: how much the extent towards it can grow at all
 };
@@ -86,11 +97,26 @@ struct Approach {
 Approach approachAlong(const MotionBound& body, const Eigen::Vector2d& towards) {
     if (body.ball) return Approach{std::max(0.0, towards.dot(body.velocity))};
     const CosSin& h = body.heading;
-    const double along = std::abs(towards.x() * h.c + towards.y() * h.s);   // |cos phi0|
+    const double cosine = towards.x() * h.c + towards.y() * h.s;  // cos phi0
+    const double along = std::abs(cosine);                        // |cos phi0|
     const double across = std::abs(towards.x() * h.s - towards.y() * h.c);  // |sin phi0|
     const double half = 0.5 * body.side;
-    return Approach{body.linear * std::min(1.0, along + across * body.swing),
-                    half * std::abs(along - across) * body.turning,
+    // Signed: cos(phi0 + d) = cos phi0 cos d - sin phi0 sin d with |d| <=
+    // swing lies within |sin phi0| swing + |cos phi0| swing^2 / 2 of cos phi0
+    // (|sin d| <= |d|, 1 - cos d <= d^2 / 2), and only the side cos d pulls
+    // towards 0 needs the second term. The approach v cos(phi) is then at
+    // most the largest product of the two ranges' ends.
+    // (A state that is not finite keeps |v| |cos|, infinite or NaN.)
+    double linear = body.linear * std::min(1.0, along + across * body.swing);  // m/s, |v| |cos|
+    const double w = body.swing, curve = 0.5 * w * w;
+    if (std::isfinite(body.forwardLow) && std::isfinite(body.forwardHigh) && std::isfinite(w)) {
+        const double cosHigh = std::min(1.0, cosine + across * w + (cosine < 0.0 ? along * curve : 0.0));
+        const double cosLow = std::max(-1.0, cosine - across * w - (cosine > 0.0 ? along * curve : 0.0));
+        const double signedLinear = std::max(std::max(body.forwardLow * cosLow, body.forwardLow * cosHigh),
+                                             std::max(body.forwardHigh * cosLow, body.forwardHigh * cosHigh));
+        if (signedLinear < linear) linear = signedLinear;
+    }
+    return Approach{linear, half * std::abs(along - across) * body.turning,
                     std::max(0.0, boundingRadius(body.side) - half * (along + across))};
 }
 
@@ -107,8 +133,11 @@ double closingSpeed(const Separation& s, const MotionBound& a, const MotionBound
     if (s.overlapping || !(s.distance > kNormalTrustGap)) return pointSpeeds;
     const Approach p = approachAlong(a, -s.normal), q = b ? approachAlong(*b, s.normal) : Approach{};
     const double L = p.linear + q.linear, W = p.spin + q.spin, R = p.room + q.room;
+    if (std::isnan(L + W + R)) return pointSpeeds;
     const double gap = s.distance;
-    double t = gap / (L + W);  // s; +inf when nothing moves (gap > 0 here)
+    // L may be negative (the centres draw apart all along): then only the
+    // extents' growth closes the gap, and once R is used up nothing does.
+    double t = L + W > 0.0 ? gap / (L + W) : INFINITY;  // s
     if (W * t > R) t = L > 0.0 ? (gap - R) / L : INFINITY;
     const double closing = gap / t;                         // m/s
     return closing < pointSpeeds ? closing : pointSpeeds;  // (NaN: the point speeds)

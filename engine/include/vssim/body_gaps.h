@@ -25,9 +25,12 @@ namespace vssim {
 //  - the time the pair needs to close the gap along the separation's normal
 //    n, held fixed: the bodies' extents along n are apart by exactly the gap
 //    now (n is the direction between their nearest points), and they cannot
-//    touch while those extents stay apart. A robot's centre moves along n at
-//    most at |v| |cos(theta - angle of n)|, with theta within |w| T of where
-//    it is now; its extent along n grows at most at |w| (s/2)
+//    touch while those extents stay apart. A robot's centre moves towards
+//    the other body at v cos(theta - angle of n), at most at the largest
+//    product of v's range over the horizon and that cosine's range with
+//    theta within |w| T of where it is now (negative for a robot that drives
+//    away all along: then the pair closes only as far as the extents grow,
+//    if at all), and at most at |v| |cos|; its extent along n grows at most at |w| (s/2)
 //    ||cos| - |sin|| of that angle now (0 with a corner towards the other
 //    body, 1 face on) and never past s/sqrt2 (a robot spinning near a wall
 //    can only reach so far). The ball
@@ -47,6 +50,8 @@ struct BodyGap {
 struct MotionBound {
     double pointSpeed = 0.0;  // m/s: the fastest any point of the body moves
     double linear = 0.0;      // m/s: a robot's |v|, at most
+    double forwardLow = 0.0;  // m/s: a robot's v (signed) is at least this within the horizon
+    double forwardHigh = 0.0; // m/s: and at most this
     double turning = 0.0;     // rad/s: a robot's |w|, at most
     double swing = 0.0;       // rad: the most a robot's heading can turn
     CosSin heading;           // a robot's heading now
