@@ -363,7 +363,8 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
     // must cover (the curvature term of cos; without it, nothing would close).
     MotionBound away;
     away.linear = away.forwardLow = away.forwardHigh = 1.0;
-    away.swing = 2.0;
+    away.swing = away.swingHigh = 2.0;
+    away.swingLow = -2.0;
     away.turning = 20.0;
     away.heading = cosSin(M_PI);  // heading -x; the other body (b) lies along +x: n, from b to a, is -x
     const Separation apart{0.01, false, Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d::Zero()};
@@ -374,6 +375,48 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
     away.heading = cosSin(0.0);
     const double backsIn = closingSpeed(apart, away, nullptr, 10.0);
     QVERIFY2(backsIn >= -std::cos(2.0) - 1e-12, qPrintable(QString("closing %1 m/s").arg(backsIn)));
+    // Running at 1 m/s across n (heading +y, the other body along +x, n = -x)
+    // and turning by up to 0.5 rad one way only: to the right it comes
+    // towards the other body at up to sin(0.5) m/s; to the left it only
+    // draws away, and nothing closes (a swing of +-0.5 rad would say sin(0.5)).
+    MotionBound across;
+    across.linear = across.forwardLow = across.forwardHigh = 1.0;
+    across.swing = 0.5;
+    across.turning = 50.0;
+    across.heading = cosSin(M_PI / 2);
+    across.swingLow = -0.5;
+    const double turningIn = closingSpeed(apart, across, nullptr, 10.0);
+    QVERIFY2(turningIn >= std::sin(0.5) - 1e-12, qPrintable(QString("closing %1 m/s").arg(turningIn)));
+    across.swingLow = 0.0;
+    across.swingHigh = 0.5;
+    const double turningAway = closingSpeed(apart, across, nullptr, 10.0);
+    QVERIFY2(turningAway < 1e-9, qPrintable(QString("closing %1 m/s").arg(turningAway)));
+    // A robot's ranges of v and of its heading's turn over the horizon
+    // hold the exact motion's (sampled every 10 us): spinning left and
+    // driving forward under voltages that reverse both, so that each range
+    // straddles 0 within the 30 ms; and the mirror image (each range then
+    // grows upwards from its start instead of downwards).
+    for (const double sense : {1.0, -1.0}) {
+        RobotState reverser;
+        reverser.v = 0.1 * sense, reverser.omega = 5.0 * sense;
+        const Voltages reverse{-full * sense, full * 0.2 * sense};
+        const MotionBound ranges = robotMotionBound(model, reverser, reverse, side, modeProgress(model, horizon));
+        double turnMin = 0.0, turnMax = 0.0, vMin = reverser.v, vMax = reverser.v;
+        for (int k = 1; k <= 3000; ++k) {
+            RobotState r = reverser;
+            const double t = k * 1e-5;
+            integrateRobotExact(model, makeExactStepTable(model, t, exactPanelsFor(model, r, reverse, t)), r, reverse);
+            turnMin = std::min(turnMin, r.theta), turnMax = std::max(turnMax, r.theta);
+            vMin = std::min(vMin, r.v), vMax = std::max(vMax, r.v);
+        }
+        QVERIFY2(turnMin < -0.01 && turnMax > 0.01 && vMin < -0.01 && vMax > 0.01, "the motion reverses both");
+        QVERIFY2(ranges.swingLow <= turnMin && ranges.swingHigh >= turnMax,
+                 qPrintable(QString("turn %1 to %2 rad, range %3 to %4")
+                                .arg(turnMin).arg(turnMax).arg(ranges.swingLow).arg(ranges.swingHigh)));
+        QVERIFY2(ranges.forwardLow <= vMin && ranges.forwardHigh >= vMax,
+                 qPrintable(QString("v %1 to %2 m/s, range %3 to %4")
+                                .arg(vMin).arg(vMax).arg(ranges.forwardLow).arg(ranges.forwardHigh)));
+    }
 }
 
 void TestTimeOfImpact::firstContactAgainstBruteForce_data() {

@@ -43,19 +43,25 @@ MotionBound robotMotionBound(const RobotModel& model, const RobotState& state, c
     const Eigen::Vector2d bound = velocityBoundWithin(model, state, e, progress);
     MotionBound m;
     m.linear = bound(0);
-    // v's range: each mode's share moves from P_k u0 straight towards P_k
-    // u_inf and has covered progress.covered[k] of the way at T (as in
-    // velocityBoundWithin, signed).
+    // v's and w's ranges: each mode's share moves from P_k u0 straight
+    // towards P_k u_inf and has covered progress.covered[k] of the way at T
+    // (as in velocityBoundWithin, signed). The heading's turn by t <= T is
+    // t times w's mean over [0, t], so within [min(0, T w_low), max(0, T w_high)].
     const Eigen::Vector2d u0(state.v, state.omega);
     const Eigen::Vector2d steady = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    double turnLow = 0.0, turnHigh = 0.0;  // rad/s
     for (int k = 0; k < 2; ++k) {
-        const double start = model.modeProjector[k].row(0).dot(u0), end = model.modeProjector[k].row(0).dot(steady);
-        const double atHorizon = start + progress.covered[k] * (end - start);
-        m.forwardLow += std::min(start, atHorizon);
-        m.forwardHigh += std::max(start, atHorizon);
+        const Eigen::Vector2d start = model.modeProjector[k] * u0, end = model.modeProjector[k] * steady;
+        const Eigen::Vector2d atHorizon = start + progress.covered[k] * (end - start);
+        m.forwardLow += std::min(start(0), atHorizon(0));
+        m.forwardHigh += std::max(start(0), atHorizon(0));
+        turnLow += std::min(start(1), atHorizon(1));
+        turnHigh += std::max(start(1), atHorizon(1));
     }
     m.turning = bound(1);
     m.swing = bound(1) * progress.T;
+    m.swingLow = std::min(0.0, turnLow * progress.T);
+    m.swingHigh = std::max(0.0, turnHigh * progress.T);
     m.heading = cosSin(state.theta);
     m.side = side;
     m.pointSpeed = m.linear + boundingRadius(side) * m.turning;
@@ -98,20 +104,23 @@ Approach approachAlong(const MotionBound& body, const Eigen::Vector2d& towards) 
     if (body.ball) return Approach{std::max(0.0, towards.dot(body.velocity))};
     const CosSin& h = body.heading;
     const double cosine = towards.x() * h.c + towards.y() * h.s;  // cos phi0
+    const double sine = towards.x() * h.s - towards.y() * h.c;    // sin phi0 (phi grows as the heading turns left)
     const double along = std::abs(cosine);                        // |cos phi0|
-    const double across = std::abs(towards.x() * h.s - towards.y() * h.c);  // |sin phi0|
+    const double across = std::abs(sine);                         // |sin phi0|
     const double half = 0.5 * body.side;
-    // Signed: cos(phi0 + d) = cos phi0 cos d - sin phi0 sin d with |d| <=
-    // swing lies within |sin phi0| swing + |cos phi0| swing^2 / 2 of cos phi0
-    // (|sin d| <= |d|, 1 - cos d <= d^2 / 2), and only the side cos d pulls
-    // towards 0 needs the second term. The approach v cos(phi) is then at
-    // most the largest product of the two ranges' ends.
+    // Signed: cos(phi0 + d) = cos phi0 cos d - sin phi0 sin d with d in
+    // [swingLow, swingHigh] (which holds 0): sin d lies in that range too
+    // (|sin d| <= |d|, same sign) and cos d within d^2 / 2 of 1, which only
+    // matters on the side where it pulls cos phi0 towards 0. The approach
+    // v cos(phi) is then at most the largest product of the two ranges' ends.
     // (A state that is not finite keeps |v| |cos|, infinite or NaN.)
     double linear = body.linear * std::min(1.0, along + across * body.swing);  // m/s, |v| |cos|
-    const double w = body.swing, curve = 0.5 * w * w;
-    if (std::isfinite(body.forwardLow) && std::isfinite(body.forwardHigh) && std::isfinite(w)) {
-        const double cosHigh = std::min(1.0, cosine + across * w + (cosine < 0.0 ? along * curve : 0.0));
-        const double cosLow = std::max(-1.0, cosine - across * w - (cosine > 0.0 ? along * curve : 0.0));
+    const double a = body.swingLow, b = body.swingHigh;  // rad
+    if (std::isfinite(body.forwardLow) && std::isfinite(body.forwardHigh) && std::isfinite(a) && std::isfinite(b)) {
+        const double widest = std::max(-a, b), curve = 0.5 * widest * widest;
+        const double turnedLow = std::min(-sine * a, -sine * b), turnedHigh = std::max(-sine * a, -sine * b);
+        const double cosHigh = std::min(1.0, cosine + turnedHigh + (cosine < 0.0 ? along * curve : 0.0));
+        const double cosLow = std::max(-1.0, cosine + turnedLow - (cosine > 0.0 ? along * curve : 0.0));
         const double signedLinear = std::max(std::max(body.forwardLow * cosLow, body.forwardLow * cosHigh),
                                              std::max(body.forwardHigh * cosLow, body.forwardHigh * cosHigh));
         if (signedLinear < linear) linear = signedLinear;

@@ -28,7 +28,8 @@ namespace vssim {
 //    touch while those extents stay apart. A robot's centre moves towards
 //    the other body at v cos(theta - angle of n), at most at the largest
 //    product of v's range over the horizon and that cosine's range with
-//    theta within |w| T of where it is now (negative for a robot that drives
+//    theta between its start plus T times w's least and greatest values
+//    over the horizon (each with 0) (negative for a robot that drives
 //    away all along: then the pair closes only as far as the extents grow,
 //    if at all), and at most at |v| |cos|; its extent along n grows at most at |w| (s/2)
 //    ||cos| - |sin|| of that angle now (0 with a corner towards the other
@@ -52,6 +53,8 @@ struct MotionBound {
     double linear = 0.0;      // m/s: a robot's |v|, at most
     double forwardLow = 0.0;  // m/s: a robot's v (signed) is at least this within the horizon
     double forwardHigh = 0.0; // m/s: and at most this
+    double swingLow = 0.0;    // rad, <= 0: the heading turns by at least this (signed, counter-clockwise positive)
+    double swingHigh = 0.0;   // rad, >= 0: and at most this (both within +-swing)
     double turning = 0.0;     // rad/s: a robot's |w|, at most
     double swing = 0.0;       // rad: the most a robot's heading can turn
     CosSin heading;           // a robot's heading now
