@@ -130,6 +130,7 @@ private slots:
     void pathFollowsTheExactMotion();
     void advancementStopsAtTheFirstTouch();
     void gapsCloseAlongTheNormal();
+    void longStretchOfFullSpinNearAWall();
     void firstContactAgainstBruteForce_data();
     void firstContactAgainstBruteForce();
     void headOn();
@@ -417,6 +418,55 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
                  qPrintable(QString("v %1 to %2 m/s, range %3 to %4")
                                 .arg(vMin).arg(vMax).arg(ranges.forwardLow).arg(ranges.forwardHigh)));
     }
+}
+
+void TestTimeOfImpact::longStretchOfFullSpinNearAWall() {
+    // A robot spinning at 50 rad/s, 4 cm from the right wall (x = 0.75) of
+    // a 1.5 m field, under voltages held for 0.2 s (one stretch: a turn of
+    // about 10 rad one way). Its heading passes every angle, so the bound
+    // along the normal must let its centre come towards the wall whichever
+    // way it faced at the start (a turn past pi reaches sin = -1 on the other
+    // side); it drifts on one wheel into the wall at about 0.16 s.
+    const RobotParams params;
+    const RobotModel model = makeRobotModel(params);
+    const double side = params.side, full = params.max_voltage, horizon = 0.2;  // m, V, s
+    RobotState spinner;
+    spinner.x = 0.75 - side / 2 - 0.04, spinner.theta = M_PI / 2, spinner.omega = 50.0;
+    const Voltages e{full, 0.0};
+    Scene s = boxScene({spinner}, {-0.6, -0.5, 0.0, 0.0});
+    s.field = makeRectangularField(1.5, 1.3);
+    // The exact motion's first contact with the right wall, every 0.1 ms.
+    const Wall right{{0.75, -0.65}, {0.75, 0.65}, {-1.0, 0.0}};
+    double touch = NAN;  // s
+    for (int k = 1; k <= 2000 && std::isnan(touch); ++k) {
+        RobotState r = spinner;
+        const double t = k * 1e-4;
+        integrateRobotExact(model, makeExactStepTable(model, t, exactPanelsFor(model, r, e, t)), r, e);
+        if (robotWallSeparation(r, side, right).overlapping) touch = t;
+    }
+    QVERIFY2(!std::isnan(touch) && touch > 0.1, qPrintable(QString("touches at %1 s").arg(touch)));
+    // The gap's bound over the whole stretch allows it no later.
+    const WorldModel m = makeWorldModel(s);
+    WorldState state = initialWorldState(s);
+    state.voltages = {e};
+    std::vector<BodyGap> gaps;
+    BodyGapScratch scratch;
+    findBodyGaps(m, state, std::vector<int>{0}, false, horizon, gaps, scratch);
+    bool seen = false;
+    for (const BodyGap& g : gaps) {
+        if (g.b.kind != BodyKind::Wall || !(std::abs(m.field.walls[g.b.index].normal.x() + 1.0) < 1e-12)) continue;
+        seen = true;
+        QVERIFY2(g.closing > 0.0 && g.gap / g.closing <= touch,
+                 qPrintable(QString("closing %1 m/s: not before %2 s, touches at %3 s").arg(g.closing).arg(g.gap / g.closing).arg(touch)));
+    }
+    QVERIFY(seen);
+    // And the planner, given the stretch in one call, finds that contact, no
+    // later than the exact motion (one sample) and no earlier than the touch distance allows.
+    s.commands.push_back({0.0, 0, e});
+    Simulation sim(s);
+    const AdvanceReport r = sim.advanceTo(static_cast<std::int64_t>(std::llround(horizon / s.simulation.dt)));
+    QVERIFY2(r.impacts >= 1 && r.firstImpact <= touch && r.firstImpact > touch - 2e-4,
+             qPrintable(QString("%1 impacts, the first at %2 s; touches at %3 s").arg(r.impacts).arg(r.firstImpact).arg(touch)));
 }
 
 void TestTimeOfImpact::firstContactAgainstBruteForce_data() {

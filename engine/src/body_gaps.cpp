@@ -17,6 +17,8 @@ namespace {
 // practice this guard only matters to other callers.)
 constexpr double kNormalTrustGap = 1e-6;
 
+constexpr double kPi = 3.14159265358979323846;
+
 }  // namespace
 
 RobotState ballPose(const BallState& ball) {
@@ -110,15 +112,19 @@ Approach approachAlong(const MotionBound& body, const Eigen::Vector2d& towards) 
     const double half = 0.5 * body.side;
     // Signed: cos(phi0 + d) = cos phi0 cos d - sin phi0 sin d with d in
     // [swingLow, swingHigh] (which holds 0): sin d lies in that range too
-    // (|sin d| <= |d|, same sign) and cos d within d^2 / 2 of 1, which only
-    // matters on the side where it pulls cos phi0 towards 0. The approach
-    // v cos(phi) is then at most the largest product of the two ranges' ends.
+    // (|sin d| <= |d|, same sign) as long as d stays within +-pi; a turn
+    // past pi one way (a long stretch at full spin) reaches sin d = -+1 on
+    // the other side. cos d lies within d^2 / 2 of 1, which only matters on
+    // the side where it pulls cos phi0 towards 0. The approach v cos(phi)
+    // is then at most the largest product of the two ranges' ends.
     // (A state that is not finite keeps |v| |cos|, infinite or NaN.)
     double linear = body.linear * std::min(1.0, along + across * body.swing);  // m/s, |v| |cos|
     const double a = body.swingLow, b = body.swingHigh;  // rad
     if (std::isfinite(body.forwardLow) && std::isfinite(body.forwardHigh) && std::isfinite(a) && std::isfinite(b)) {
         const double widest = std::max(-a, b), curve = 0.5 * widest * widest;
-        const double turnedLow = std::min(-sine * a, -sine * b), turnedHigh = std::max(-sine * a, -sine * b);
+        const double sinLow = b > kPi ? std::min(a, -1.0) : a, sinHigh = a < -kPi ? std::max(b, 1.0) : b;
+        const double turnedLow = std::min(-sine * sinLow, -sine * sinHigh);
+        const double turnedHigh = std::max(-sine * sinLow, -sine * sinHigh);
         const double cosHigh = std::min(1.0, cosine + turnedHigh + (cosine < 0.0 ? along * curve : 0.0));
         const double cosLow = std::max(-1.0, cosine + turnedLow - (cosine > 0.0 ? along * curve : 0.0));
         const double signedLinear = std::max(std::max(body.forwardLow * cosLow, body.forwardLow * cosHigh),
