@@ -42,28 +42,18 @@ Separation separationBetween(const WorldModel& model, const BodyRef& a, const Ro
 
 MotionBound robotMotionBound(const RobotModel& model, const RobotState& state, const Voltages& e, double side,
                              const ModeProgress& progress) {
-    const Eigen::Vector2d bound = velocityBoundWithin(model, state, e, progress);
+    const VelocityRange range = velocityRangeWithin(model, state, e, progress);
     MotionBound m;
-    m.linear = bound(0);
-    // v's and w's ranges: each mode's share moves from P_k u0 straight
-    // towards P_k u_inf and has covered progress.covered[k] of the way at T
-    // (as in velocityBoundWithin, signed). The heading's turn by t <= T is
-    // t times w's mean over [0, t], so within [min(0, T w_low), max(0, T w_high)].
-    const Eigen::Vector2d u0(state.v, state.omega);
-    const Eigen::Vector2d steady = model.steadyGain * Eigen::Vector2d(e.right, e.left);
-    double turnLow = 0.0, turnHigh = 0.0;  // rad/s
-    for (int k = 0; k < 2; ++k) {
-        const Eigen::Vector2d start = model.modeProjector[k] * u0, end = model.modeProjector[k] * steady;
-        const Eigen::Vector2d atHorizon = start + progress.covered[k] * (end - start);
-        m.forwardLow += std::min(start(0), atHorizon(0));
-        m.forwardHigh += std::max(start(0), atHorizon(0));
-        turnLow += std::min(start(1), atHorizon(1));
-        turnHigh += std::max(start(1), atHorizon(1));
-    }
-    m.turning = bound(1);
-    m.swing = bound(1) * progress.T;
-    m.swingLow = std::min(0.0, turnLow * progress.T);
-    m.swingHigh = std::max(0.0, turnHigh * progress.T);
+    m.linear = range.magnitude(0);
+    m.forwardLow = range.low(0);
+    m.forwardHigh = range.high(0);
+    m.turning = range.magnitude(1);
+    m.swing = range.magnitude(1) * progress.T;
+    // The heading's turn by t <= T is t times w's mean over [0, t].
+    m.swingLow = std::min(0.0, range.low(1) * progress.T);
+    m.swingHigh = std::max(0.0, range.high(1) * progress.T);
+    if (!std::isfinite(m.linear) || !std::isfinite(m.turning))  // a state or model not finite: no signed ranges
+        m.forwardLow = m.forwardHigh = m.swingLow = m.swingHigh = NAN;
     m.heading = cosSin(state.theta);
     m.side = side;
     m.pointSpeed = m.linear + boundingRadius(side) * m.turning;

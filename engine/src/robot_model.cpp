@@ -113,19 +113,22 @@ ModeProgress modeProgress(const RobotModel& model, double T) {
     return p;
 }
 
-Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
-                                    const ModeProgress& progress) {
+VelocityRange velocityRangeWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
+                                  const ModeProgress& progress) {
     const Eigen::Vector2d u0(state.v, state.omega);
     const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
-    Eigen::Vector2d bound = Eigen::Vector2d::Zero();
+    VelocityRange range;
     for (int k = 0; k < 2; ++k) {
         // The mode's share goes along a segment from P_k u0 towards P_k u_inf
         // and has covered the fraction 1 - e^(rate_k T) of it at T.
         const Eigen::Vector2d start = model.modeProjector[k] * u0, end = model.modeProjector[k] * target;
-        bound += start.cwiseAbs().cwiseMax((start + progress.covered[k] * (end - start)).cwiseAbs());
+        const Eigen::Vector2d atHorizon = start + progress.covered[k] * (end - start);
+        range.low += start.cwiseMin(atHorizon);
+        range.high += start.cwiseMax(atHorizon);
+        range.magnitude += start.cwiseAbs().cwiseMax(atHorizon.cwiseAbs());
     }
-    if (!bound.allFinite()) return Eigen::Vector2d::Constant(INFINITY);
-    return bound;
+    if (!range.magnitude.allFinite()) range.magnitude = Eigen::Vector2d::Constant(INFINITY);
+    return range;
 }
 
 double robotTravelBound(const RobotModel& model, const RobotState& state, const Voltages& e,

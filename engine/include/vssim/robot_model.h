@@ -97,14 +97,21 @@ private:
     std::array<ModeProgress, kSlots> slots_;   // by T's bits; a slot holds the horizon asked for last
 };
 
-// Bounds on |v(t)| and |w(t)| over [0, T] only (m/s, rad/s), T =
-// progress.T (progress.fits(model, T)): each mode's share lies between its
-// start and where it is at T, so |u_j(t)| <= sum_k max(|(P_k u0)_j|,
-// |(P_k u(T))_j|) for t <= T. Much tighter than velocityBound over a
-// millisecond for a robot far from its steady state (under new voltages).
-// Infinite when the state or the model is not finite.
-Eigen::Vector2d velocityBoundWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
-                                    const ModeProgress& progress);
+// Where u = (v, w) lies over [0, T] only, T = progress.T
+// (progress.fits(model, T)): each mode's share moves along a segment from
+// P_k u0 towards P_k u_inf and has covered the fraction 1 - e^(rate_k T)
+// of it at T, so u_j(t) lies between the sums over k of the smaller and
+// the larger of (P_k u0)_j and (P_k u(T))_j, and |u_j(t)| <= sum_k
+// max(|(P_k u0)_j|, |(P_k u(T))_j|), for t <= T. Much tighter than
+// velocityBound over a millisecond for a robot far from its steady state
+// (under new voltages).
+struct VelocityRange {
+    Eigen::Vector2d low = Eigen::Vector2d::Zero();        // (v, w) at least, m/s and rad/s
+    Eigen::Vector2d high = Eigen::Vector2d::Zero();       // (v, w) at most
+    Eigen::Vector2d magnitude = Eigen::Vector2d::Zero();  // (|v|, |w|) at most; infinite when the state or the model is not finite
+};
+VelocityRange velocityRangeWithin(const RobotModel& model, const RobotState& state, const Voltages& e,
+                                  const ModeProgress& progress);
 
 // A bound on how far a point of the robot at distance `arm` (m) from its
 // centre can move within T seconds while the voltages stay e and nothing
