@@ -14,11 +14,6 @@ namespace vssim {
 // can overshoot the true ones (by up to about 1.5 times at the edge of RK4's
 // stability region), so for them: twice the speed bound, and only for one
 // step well inside their stability regions; beyond that nothing is promised.
-double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon) {
-    ModeProgressCache progress;
-    return robotTravelForIntegrator(model, state, i, horizon, progress);
-}
-
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon,
                                 ModeProgressCache& progress) {
     const RobotModel& robot = model.robots[i];

@@ -28,9 +28,8 @@ struct FreeBodies {
 void findFreeBodies(const WorldModel& model, const WorldState& state, double horizon, FreeBodies& out);
 
 // How far robot i's centre can go within `horizon` (s) as the scene's
-// integrator computes it, m; infinity when nothing is promised (free_bodies.cpp).
-double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon);
-// The same, with the modes' progress over the horizon from `progress`.
+// integrator computes it, m; infinity when nothing is promised
+// (free_bodies.cpp). The modes' progress over the horizon comes from `progress`.
 double robotTravelForIntegrator(const WorldModel& model, const WorldState& state, std::size_t i, double horizon,
                                 ModeProgressCache& progress);
 // How far the ball can go within `horizon` (s) in free flight, m.
