@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vssim/collision_detect.h"
 #include "vssim/geometry.h"
 
 namespace vssim {
@@ -38,6 +39,22 @@ Separation separationBetween(const WorldModel& model, const BodyRef& a, const Ro
     }
     if (a.kind == BodyKind::Ball) return ballRobotSeparation(centreA, model.ball.radius, poseB, model.sides[b.index]);
     return robotRobotSeparation(poseA, model.sides[a.index], poseB, model.sides[b.index]);
+}
+
+double overlapDepthBetween(const WorldModel& model, const BodyRef& a, const RobotState& poseA, const BodyRef& b,
+                           const RobotState& poseB) {
+    const BallState ballA{poseA.x, poseA.y, 0.0, 0.0};  // (read when a is the ball)
+    std::optional<Contact> c;
+    if (b.kind == BodyKind::Wall) {
+        const Wall& wall = model.field.walls[b.index];
+        c = a.kind == BodyKind::Ball ? ballWallContact(ballA, model.ball.radius, wall, b.index)
+                                     : robotWallContact(poseA, model.sides[a.index], a.index, wall, b.index);
+    } else if (a.kind == BodyKind::Ball) {
+        c = robotBallContact(poseB, model.sides[b.index], b.index, ballA, model.ball.radius);
+    } else {
+        c = robotRobotContact(poseA, model.sides[a.index], a.index, poseB, model.sides[b.index], b.index);
+    }
+    return c ? c->depth : 0.0;
 }
 
 MotionBound robotMotionBound(const RobotModel& model, const RobotState& state, const Voltages& e, double side,

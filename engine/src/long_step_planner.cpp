@@ -587,19 +587,23 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         // another robot: within kRestingGap, closing slower than
         // kRestingSpeed): searching them would crawl, and find a new contact
         // at every step. If they meet by the step's end, the step is an
-        // ordinary one instead, as on the grid.
+        // ordinary one instead, as on the grid: unless they were parting
+        // fast, or meet deep, which resting bodies do not (a spinning
+        // robot's corner sweeping into the other within the step): then
+        // their contact is searched for like any other.
         if (g.gap <= kRestingGap) {
             // (Their nearest points at the step's start are the gap's, from gapSafeSteps.)
             const Bodies atStart{&stepStartRobots_, &model_.robots, &stepStartBall_, &model_.ball};
             const Eigen::Vector2d relative =
                 contactPointVelocity(atStart, g.a, g.point) - contactPointVelocity(atStart, g.b, g.point);  // m/s
-            if (-relative.dot(g.normal) < kRestingSpeed) {
-                // Unless they meet by the step's end: then an ordinary step answers them.
-                if (atEnd.overlapping) {
+            const double closing = -relative.dot(g.normal);  // m/s
+            if (closing < kRestingSpeed) {
+                if (!atEnd.overlapping) continue;
+                if (closing > -kRestingSpeed && overlapDepthBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b)) <=
+                                                    kRestingDepthSteps * kRestingSpeed * dt) {
                     restoreStepping(ballMoving);
                     return ImpactStep::Unresolved;
                 }
-                continue;
             }
         }
         for (const BodyRef& body : {g.a, g.b}) {

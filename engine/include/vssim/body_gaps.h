@@ -95,4 +95,10 @@ RobotState ballPose(const BallState& ball);
 Separation separationBetween(const WorldModel& model, const BodyRef& a, const RobotState& poseA, const BodyRef& b,
                              const RobotState& poseB);
 
+// How deep a pair's bodies overlap at the given poses (as separationBetween
+// takes them), m: the collision test's depth along its normal, 0 when they
+// do not touch.
+double overlapDepthBetween(const WorldModel& model, const BodyRef& a, const RobotState& poseA, const BodyRef& b,
+                           const RobotState& poseB);
+
 }  // namespace vssim

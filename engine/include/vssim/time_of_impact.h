@@ -40,13 +40,17 @@ constexpr double kTouchDistance = 1e-6;
 // the state alone, so the results do not depend on how a run is cut into
 // calls. m.
 constexpr double kContactSkin = 2.0 * kTouchDistance;
-// Bodies within kRestingGap of each other that close slower than
-// kRestingSpeed rest on each other (a robot pushing the ball or another
-// robot): a step is not searched for them (the search would crawl, and find a
-// new contact at every step); if they meet by its end, the step is an
-// ordinary one instead, its contacts found at its end as fixed steps would.
-constexpr double kRestingGap = 1e-3;    // m
-constexpr double kRestingSpeed = 0.05;  // m/s
+// Bodies within kRestingGap of each other whose nearest points close or part
+// slower than kRestingSpeed rest on each other (a robot pushing the ball or
+// another robot): a step is not searched for them (the search would crawl,
+// and find a new contact at every step); if they meet by its end, no deeper
+// than kRestingDepthSteps steps of kRestingSpeed, the step is an ordinary one
+// instead, its contacts found at its end as fixed steps would. Bodies that
+// part faster, or meet deeper, do not rest: a spinning robot's corner swept
+// into the other within the step. Their contact is searched for.
+constexpr double kRestingGap = 1e-3;        // m
+constexpr double kRestingSpeed = 0.05;      // m/s
+constexpr double kRestingDepthSteps = 2.0;  // steps of dt: resting bodies, closing under kRestingSpeed, meet shallower
 // Iterations of one search, at most: beyond it the search reports how far it
 // got safely (a grazing pass that neither touches nor leaves).
 constexpr int kMaxAdvancements = 256;
