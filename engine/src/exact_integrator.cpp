@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <tuple>
 
 #include "vssim/geometry.h"
 
@@ -23,6 +24,19 @@ constexpr std::array<double, kGaussNodes> kNodeWeights = {
 
 constexpr int kMaxPanels = 1 << 20;
 
+// Two doubles operated on at once (one SSE2 register on x86-64; the
+// compiler's generic vectors elsewhere): each lane's arithmetic is the
+// scalar IEEE operation, so results are the same bit for bit.
+typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
+Pair load(const double* p) {
+    Pair r;
+    std::memcpy(&r, p, sizeof r);
+    return r;
+}
+void store(double* p, const Pair& value) { std::memcpy(p, &value, sizeof value); }
+
+static_assert(kGaussNodes == 5, "integrateRobotExact takes the nodes as two pairs and one more");
+
 // Nodes within this angle (rad) of the middle node take their sine and cosine
 // from the middle node's by angle addition, with the small angle's by
 // series (sinCosNearZero, valid to pi/4): no range reduction for them.
@@ -40,6 +54,14 @@ ExactPanel makePanel(const RobotModel& model, double length, int repeat) {
     for (int i = 0; i < kGaussNodes; ++i) {
         p.nodes[i] = linearFlow(model.A, kNodeOffsets[i] * length);
         p.weights[i] = kNodeWeights[i] * length;
+        p.speedFromV[i] = p.nodes[i].Phi(0, 0);
+        p.speedFromW[i] = p.nodes[i].Phi(0, 1);
+        p.headingFromV[i] = p.nodes[i].Psi(1, 0);
+        p.headingFromW[i] = p.nodes[i].Psi(1, 1);
+        p.speedFromG0[i] = p.nodes[i].Psi(0, 0);
+        p.speedFromG1[i] = p.nodes[i].Psi(0, 1);
+        p.headingFromG0[i] = p.nodes[i].Omega(1, 0);
+        p.headingFromG1[i] = p.nodes[i].Omega(1, 1);
     }
     return p;
 }
@@ -134,37 +156,79 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
     double x = state.x, y = state.y, theta = state.theta;
     for (const ExactPanel& panel : table.kinds) {
         // The input's share of each node's flow is the same on every panel of a kind.
+        // (Nodes 0 and 1, 2 and 3 two at a time, then node 4.)
         std::array<double, kGaussNodes> nodeSpeedInput, nodeTurnInput;
-        for (int i = 0; i < kGaussNodes; ++i) {
-            nodeSpeedInput[i] = panel.nodes[i].Psi.row(0).dot(g);
-            nodeTurnInput[i] = panel.nodes[i].Omega.row(1).dot(g);
+        const Pair G0 = {g(0), g(0)}, G1 = {g(1), g(1)};
+        for (const int i : {0, 2}) {
+            store(&nodeSpeedInput[i], load(&panel.speedFromG0[i]) * G0 + load(&panel.speedFromG1[i]) * G1);
+            store(&nodeTurnInput[i], load(&panel.headingFromG0[i]) * G0 + load(&panel.headingFromG1[i]) * G1);
         }
+        constexpr int last = kGaussNodes - 1;
+        nodeSpeedInput[last] = panel.speedFromG0[last] * g(0) + panel.speedFromG1[last] * g(1);
+        nodeTurnInput[last] = panel.headingFromG0[last] * g(0) + panel.headingFromG1[last] * g(1);
         const Eigen::Vector2d panelVelocityInput = panel.flow.Psi * g;
         const double panelTurnInput = panel.flow.Omega.row(1).dot(g);
         for (int p = 0; p < panel.repeat; ++p) {
-            double dx = 0.0, dy = 0.0;
             constexpr int mid = kGaussNodes / 2;
-            const double midHeading = theta + panel.nodes[mid].Psi.row(1).dot(u) + nodeTurnInput[mid];
-            const CosSin midRotation = cosSin(midHeading);
+            const double v0 = u(0), w0 = u(1);
+            // Each node's speed and heading; the outer nodes two at a time
+            // (0 and 1, 3 and 4), the same operations in the same order as
+            // one at a time.
+            std::array<double, kGaussNodes> v, heading;
+            const Pair V0 = {v0, v0}, W0 = {w0, w0};
+            for (const int i : {0, mid + 1}) {
+                store(&v[i], (load(&panel.speedFromV[i]) * V0 + load(&panel.speedFromW[i]) * W0) +
+                                 load(&nodeSpeedInput[i]));
+                store(&heading[i], (theta + (load(&panel.headingFromV[i]) * V0 + load(&panel.headingFromW[i]) * W0)) +
+                                       load(&nodeTurnInput[i]));
+            }
+            v[mid] = (panel.speedFromV[mid] * v0 + panel.speedFromW[mid] * w0) + nodeSpeedInput[mid];
+            heading[mid] = (theta + (panel.headingFromV[mid] * v0 + panel.headingFromW[mid] * w0)) + nodeTurnInput[mid];
+            const CosSin midRotation = cosSin(heading[mid]);
             const double midCos = midRotation.c, midSin = midRotation.s;
-            for (int i = 0; i < kGaussNodes; ++i) {
-                const double v = panel.nodes[i].Phi.row(0).dot(u) + nodeSpeedInput[i];
-                const double heading = theta + panel.nodes[i].Psi.row(1).dot(u) + nodeTurnInput[i];
-                double cosine, sine;
-                const double turn = heading - midHeading;  // rad
-                if (i == mid) {
-                    cosine = midCos, sine = midSin;
-                } else if (std::abs(turn) <= kSmallTurn) {
-                    double s, c;
-                    sinCosNearZero(turn, s, c);
-                    cosine = midCos * c - midSin * s;
-                    sine = midSin * c + midCos * s;
-                } else {
-                    const CosSin h = cosSin(heading);
-                    cosine = h.c, sine = h.s;
+            // The nodes' cosine and sine from the middle node's by angle
+            // addition, the small angle's by series (sinCosNearZero), or,
+            // beyond kSmallTurn, their own.
+            std::array<double, kGaussNodes> cosine, sine;
+            cosine[mid] = midCos, sine[mid] = midSin;
+            const Pair turnLow = load(&heading[0]) - heading[mid], turnHigh = load(&heading[mid + 1]) - heading[mid];
+            const Pair qLow = turnLow * turnLow, qHigh = turnHigh * turnHigh;
+            if (qLow[0] <= 0.04 && qLow[1] <= 0.04 && qHigh[0] <= 0.04 && qHigh[1] <= 0.04) {
+                // Most panels: every turn within 0.2 rad, one short series for all.
+                for (const auto& [i, turn, q] : {std::tuple{0, turnLow, qLow}, std::tuple{mid + 1, turnHigh, qHigh}}) {
+                    Pair s, c;
+                    sinCosSmall(turn, q, s, c);
+                    store(&cosine[i], midCos * c - midSin * s);
+                    store(&sine[i], midSin * c + midCos * s);
                 }
-                dx += panel.weights[i] * v * cosine;
-                dy += panel.weights[i] * v * sine;
+            } else {
+                for (int i = 0; i < kGaussNodes; ++i) {
+                    if (i == mid) continue;
+                    const double turn = heading[i] - heading[mid];  // rad
+                    if (std::abs(turn) <= kSmallTurn) {
+                        double s, c;
+                        sinCosNearZero(turn, s, c);
+                        cosine[i] = midCos * c - midSin * s;
+                        sine[i] = midSin * c + midCos * s;
+                    } else {
+                        const CosSin h = cosSin(heading[i]);
+                        cosine[i] = h.c, sine[i] = h.s;
+                    }
+                }
+            }
+            // The quadrature's terms two at a time, summed in node order.
+            std::array<double, kGaussNodes> alongX, alongY;
+            for (const int i : {0, mid + 1}) {
+                const Pair weighted = load(&panel.weights[i]) * load(&v[i]);
+                store(&alongX[i], weighted * load(&cosine[i]));
+                store(&alongY[i], weighted * load(&sine[i]));
+            }
+            alongX[mid] = panel.weights[mid] * v[mid] * cosine[mid];
+            alongY[mid] = panel.weights[mid] * v[mid] * sine[mid];
+            double dx = 0.0, dy = 0.0;
+            for (int i = 0; i < kGaussNodes; ++i) {
+                dx += alongX[i];
+                dy += alongY[i];
             }
             x += dx;
             y += dy;

@@ -38,6 +38,14 @@ struct ExactPanel {
     LinearFlow flow;                            // flow over the whole panel
     std::array<LinearFlow, kGaussNodes> nodes;  // flow from the panel's start to each node
     std::array<double, kGaussNodes> weights{};  // quadrature weights times the length, s
+    // The rows of the nodes' flows the quadrature reads, node by node (for
+    // loops over the nodes that the compiler can run two at a time):
+    // v at node i is speedFromV[i] v0 + speedFromW[i] w0 + (input's share),
+    // the turn to it headingFromV[i] v0 + headingFromW[i] w0 + (share).
+    std::array<double, kGaussNodes> speedFromV{}, speedFromW{}, headingFromV{}, headingFromW{};
+    // ...and the input's shares: the rows of the nodes' Psi and Omega that
+    // multiply g = G e (for v and for the heading).
+    std::array<double, kGaussNodes> speedFromG0{}, speedFromG1{}, headingFromG0{}, headingFromG1{};
 };
 
 // Everything the exact step of one robot needs for a step of h seconds;

@@ -30,17 +30,27 @@ struct CosSin {
 // to d^11 and d^10 only, whose remainders are below 0.2^13/13! ~ 1e-19 and
 // 0.2^12/12! ~ 9e-18. Summed from the small terms up (Horner); the leading
 // 1 of the cosine is added last, with 1 - d^2/2's rounding error carried.
+// sinCosNearZero's short series, for q = d * d <= 0.04 only. Branch-free,
+// and for T = double or a vector of doubles (the exact integrator takes two
+// angles at a time), the same operations in the same order either way.
+template <typename T>
+inline void sinCosSmall(T d, T q, T& s, T& c) {
+    const T half = 0.5 * q;
+    const T head = 1.0 - half;  // rounded; (1 - head) - half is what the rounding lost
+    const T sinTail = -1.0 / 6 + q * (1.0 / 120 + q * (-1.0 / 5040 + q * (1.0 / 362880 + q * (-1.0 / 39916800))));
+    const T cosTail = 1.0 / 24 + q * (-1.0 / 720 + q * (1.0 / 40320 + q * (-1.0 / 3628800)));
+    s = d + (d * q) * sinTail;
+    c = head + (((1.0 - head) - half) + (q * q) * cosTail);
+}
+
 inline void sinCosNearZero(double d, double& s, double& c) {
     const double q = d * d;
-    const double half = 0.5 * q;
-    const double head = 1.0 - half;  // rounded; (1 - head) - half is what the rounding lost
     if (q <= 0.04) {
-        const double sinTail = -1.0 / 6 + q * (1.0 / 120 + q * (-1.0 / 5040 + q * (1.0 / 362880 + q * (-1.0 / 39916800))));
-        const double cosTail = 1.0 / 24 + q * (-1.0 / 720 + q * (1.0 / 40320 + q * (-1.0 / 3628800)));
-        s = d + (d * q) * sinTail;
-        c = head + (((1.0 - head) - half) + (q * q) * cosTail);
+        sinCosSmall(d, q, s, c);
         return;
     }
+    const double half = 0.5 * q;
+    const double head = 1.0 - half;
     const double sinTail = -1.0 / 6 + q * (1.0 / 120 + q * (-1.0 / 5040 + q * (1.0 / 362880 + q * (-1.0 / 39916800 +
                            q * (1.0 / 6227020800 + q * (-1.0 / 1307674368000 + q * (1.0 / 355687428096000.0)))))));
     const double cosTail = 1.0 / 24 + q * (-1.0 / 720 + q * (1.0 / 40320 + q * (-1.0 / 3628800 + q * (1.0 / 479001600 +
