@@ -118,13 +118,20 @@ double bruteForceFirstContactStepping(const FreeMotion& motion, const std::vecto
     return NAN;
 }
 
-// The deepest overlap of any two bodies, or of a body and a wall (the
-// engine's contact tests), m; 0 when none touch.
-double deepestOverlap(const WorldModel& model, const WorldState& state) {
+// The deepest of the contacts in a state (the engine's contact tests); a
+// contact of depth 0 when none touch.
+Contact deepestContact(const WorldModel& model, const WorldState& state) {
     const BodiesView view{&state.robots, &model.sides, &state.ball, model.ball.radius, false};
-    double deepest = 0.0;
-    for (const Contact& c : detectContacts(model.field, view)) deepest = std::max(deepest, c.depth);
+    Contact deepest;
+    for (const Contact& c : detectContacts(model.field, view))
+        if (c.depth > deepest.depth) deepest = c;
     return deepest;
+}
+
+// A body's pose as separationBetween takes it (a wall's is not read).
+RobotState poseOf(const WorldState& state, const BodyRef& body) {
+    if (body.kind == BodyKind::Robot) return state.robots[body.index];
+    return body.kind == BodyKind::Ball ? ballPose(state.ball) : RobotState{};
 }
 
 // The smallest gap between any two bodies, or a body and a wall, m.
@@ -159,6 +166,7 @@ private slots:
     void advancementStopsAtTheFirstTouch();
     void gapsCloseAlongTheNormal();
     void longStretchOfFullSpinNearAWall();
+    void restingPairHidesNoOtherContact();
     void firstContactAgainstBruteForce_data();
     void firstContactAgainstBruteForce();
     void headOn();
@@ -448,6 +456,59 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
     }
 }
 
+void TestTimeOfImpact::restingPairHidesNoOtherContact() {
+    // A robot spinning at full speed with a face 0.5 mm from the right wall
+    // of a 1 m box: its corner sweeps into the wall within the first step,
+    // whose contact is answered at its instant. Beside it, a ball resting on
+    // another body (20 um away, closing at 1 to 4 cm/s), which meets it by
+    // the step's end and is answered there, as on the grid. The resting pair
+    // must not send the whole step to the grid (it once did: then whether
+    // the spinner's contact was answered at its instant depended on which
+    // bodies shared its step, and so on where a call ended).
+    const RobotParams params;
+    const RobotModel model = makeRobotModel(params);
+    const Voltages spin{params.max_voltage, -params.max_voltage};
+    RobotState spinner;  // at its steady spin (from rest, 2 s)
+    integrateRobotExact(model, makeExactStepTable(model, 2.0, 200), spinner, spin);
+    spinner.x = 0.5 - 0.5 * params.side - 0.5e-3;
+    spinner.y = 0.1;
+    spinner.theta = 0.0;  // a face towards the wall, its corner turning into it
+    const double radius = BallParams{}.radius;
+    const std::vector<std::pair<const char*, BallState>> balls = {
+        {"far away", {-0.3, -0.3, 0.0, 0.0}},
+        {"on the spinner's top face", {spinner.x, spinner.y + 0.5 * params.side + radius + 20e-6, 0.0, -0.01}},
+        {"rolling into the right wall", {0.5 - radius - 20e-6, 0.1 - 0.09, 0.04, 0.0}},
+    };
+    double alone = NAN;  // s: the spinner's contact with the ball far away
+    for (const auto& [where, ball] : balls) {
+        Scene s = boxScene({spinner}, ball, 1.0);
+        s.commands.push_back({0.0, 0, spin});
+        Simulation once(s);
+        const AdvanceReport r = once.advanceTo(1);
+        if (std::isnan(alone)) alone = r.firstImpact;
+        QVERIFY2(r.impacts >= 1 && r.firstImpact == alone,
+                 qPrintable(QString("ball %1: %2 contacts at their instant, the first at %3 s (alone: %4 s)")
+                                .arg(where)
+                                .arg(r.impacts)
+                                .arg(r.firstImpact)
+                                .arg(alone)));
+        // The same run cut at each of the first steps: the same end.
+        Simulation whole(s);
+        whole.advanceTo(60);
+        for (const std::int64_t cut : {1, 2, 7}) {
+            Simulation parts(s);
+            parts.advanceTo(cut);
+            parts.advanceTo(60);
+            QVERIFY2(test::maxPositionDifference(parts.state(), whole.state()) < 1e-9,
+                     qPrintable(QString("ball %1, cut after step %2: %3 m from the run in one call")
+                                    .arg(where)
+                                    .arg(cut)
+                                    .arg(test::maxPositionDifference(parts.state(), whole.state()))));
+        }
+    }
+    QVERIFY(alone > 0.0 && alone < 0.001);  // within the first step, not at its end
+}
+
 void TestTimeOfImpact::longStretchOfFullSpinNearAWall() {
     // A robot spinning at 50 rad/s, 4 cm from the right wall (x = 0.75) of
     // a 1.5 m field, under voltages held for 0.2 s (one stretch: a turn of
@@ -608,22 +669,32 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
                 break;
             }
         if (!std::isnan(brute) && !(r.firstImpact <= brute)) {
-            // The one exception (time_of_impact.h, kRestingGap): bodies that
-            // rest on each other, within kRestingGap at the start of the step
-            // in which they meet and shallowly overlapping at its end, are
-            // answered at its end, as fixed steps would.
+            // The one exception (time_of_impact.h, kRestingGap): a pair
+            // resting on each other, within kRestingGap at the start of the
+            // step in which it meets and shallowly overlapping at its end, is
+            // answered at that end, as fixed steps would: the planner must
+            // have answered a contact there (not at an instant), and the pair
+            // that overlaps deepest in the free motion at the step's end must
+            // be such a pair.
             const double dt = s.simulation.dt;
             const double end = std::ceil(brute / dt - 1e-9) * dt;
-            const double gapBefore = smallestGap(motion.model(), motion.at(end - dt, e));
-            const double depthAfter = deepestOverlap(motion.model(), motion.at(end, e));
-            QVERIFY2(gapBefore <= kRestingGap && depthAfter <= kRestingDepthSteps * kRestingSpeed * dt,
-                     qPrintable(QString("trial %1: brute force finds a contact at %2 s, the planner's first is at %3 s "
-                                        "(%4 m apart at the step's start, %5 m deep at its end)")
+            const WorldState before = motion.at(end - dt, e), after = motion.at(end, e);
+            const Contact deepest = deepestContact(motion.model(), after);
+            const double gapBefore = separationBetween(motion.model(), deepest.a, poseOf(before, deepest.a), deepest.b,
+                                                       poseOf(before, deepest.b))
+                                         .distance;
+            QVERIFY2(r.contacts > r.impacts && gapBefore <= kRestingGap && deepest.depth > 0.0 &&
+                         deepest.depth <= kRestingDepthSteps * kRestingSpeed * dt,
+                     qPrintable(QString("trial %1: brute force finds a contact at %2 s, the planner's first at its "
+                                        "instant is at %3 s (%4 contacts, %5 at their instant; the pair %6 m apart "
+                                        "at the step's start, %7 m deep at its end)")
                                     .arg(trials)
                                     .arg(brute)
                                     .arg(r.firstImpact)
+                                    .arg(r.contacts)
+                                    .arg(r.impacts)
                                     .arg(gapBefore)
-                                    .arg(depthAfter)));
+                                    .arg(deepest.depth)));
             ++contacts;
             ++resting;
             continue;
@@ -653,11 +724,13 @@ void TestTimeOfImpact::firstContactAgainstBruteForce() {
         QVERIFY2(r.firstImpact > brute - sample - 1e-4,
                  qPrintable(QString("trial %1: %2 s against %3 s").arg(trials).arg(r.firstImpact).arg(brute)));
     }
-    qInfo("%d contacts in %d trials (%d grazes between samples, %d with a turn past pi before the first contact, "
+    qInfo("%d contacts in %d trials (%d grazes between samples, %d turning past pi before the first contact or the end, "
           "%d resting, on the grid), %lld bodies frozen within the stretch",
           contacts, trials, grazes, turnsPastPi, resting, static_cast<long long>(freezes));
     QVERIFY2(contacts > 100, qPrintable(QString("only %1 contacts in %2 trials").arg(contacts).arg(trials)));
-    QVERIFY2(resting * 50 <= contacts, qPrintable(QString("%1 of %2 contacts on the grid").arg(resting).arg(contacts)));
+    // (None in the 30 ms rows; a few in the long ones, where spinning robots meet more.)
+    QVERIFY2(longStretch ? resting * 50 <= contacts : resting == 0,
+             qPrintable(QString("%1 of %2 contacts on the grid").arg(resting).arg(contacts)));
     if (longStretch)
         QVERIFY2(turnsPastPi > 20, qPrintable(QString("only %1 trials turn past pi before a contact").arg(turnsPastPi)));
     if (kind == 4) QVERIFY2(freezes > 100, qPrintable(QString("only %1 bodies frozen within the stretch").arg(freezes)));

@@ -571,6 +571,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     };
     double first = dt;  // s into the step
     bool touched = false;
+    bool restingMeet = false;  // a resting pair meets by the step's end: answered there
     for (BodyGap& g : gaps_) {
         const bool wall = g.b.kind == BodyKind::Wall;
         const MotionBound boundA = boundWithinStep(g.a), boundB = wall ? MotionBound{} : boundWithinStep(g.b);
@@ -586,9 +587,11 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         // Nor for bodies resting on each other (a robot pushing the ball or
         // another robot: within kRestingGap, closing slower than
         // kRestingSpeed): searching them would crawl, and find a new contact
-        // at every step. If they meet by the step's end, the step is an
-        // ordinary one instead, as on the grid: unless they were parting
-        // fast, or meet deep, which resting bodies do not (a spinning
+        // at every step. If they meet by the step's end, their contact is
+        // answered there, as on the grid (the other pairs are still searched:
+        // whether one pair's contact is answered at its instant must not
+        // depend on which other bodies share the step). Unless they were
+        // parting fast, or meet deep, which resting bodies do not (a spinning
         // robot's corner sweeping into the other within the step): then
         // their contact is searched for like any other.
         if (g.gap <= kRestingGap) {
@@ -601,8 +604,8 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
                 if (!atEnd.overlapping) continue;
                 if (closing > -kRestingSpeed && overlapDepthBetween(model_, g.a, poseNow(g.a), g.b, poseNow(g.b)) <=
                                                     kRestingDepthSteps * kRestingSpeed * dt) {
-                    restoreStepping(ballMoving);
-                    return ImpactStep::Unresolved;
+                    restingMeet = true;
+                    continue;
                 }
             }
         }
@@ -625,7 +628,12 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
             return ImpactStep::Unresolved;
         }
     }
-    if (!touched) return ImpactStep::Free;
+    if (!touched) {
+        if (!restingMeet) return ImpactStep::Free;
+        // Only resting pairs meet: an ordinary step, its contacts found at its end.
+        restoreStepping(ballMoving);
+        return ImpactStep::Unresolved;
+    }
     // Again from the start, exactly to the instant of impact; there every
     // gap that has closed is a contact, answered by the collision model as
     // at any contact (its depth is zero: nothing to separate).

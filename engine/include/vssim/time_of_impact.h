@@ -40,14 +40,16 @@ constexpr double kTouchDistance = 1e-6;
 // the state alone, so the results do not depend on how a run is cut into
 // calls. m.
 constexpr double kContactSkin = 2.0 * kTouchDistance;
-// Bodies within kRestingGap of each other whose nearest points close or part
-// slower than kRestingSpeed rest on each other (a robot pushing the ball or
-// another robot): a step is not searched for them (the search would crawl,
-// and find a new contact at every step); if they meet by its end, no deeper
-// than kRestingDepthSteps steps of kRestingSpeed, the step is an ordinary one
-// instead, its contacts found at its end as fixed steps would. Bodies that
-// part faster, or meet deeper, do not rest: a spinning robot's corner swept
-// into the other within the step. Their contact is searched for.
+// Bodies within kRestingGap of each other whose nearest points close slower
+// than kRestingSpeed rest on each other (a robot pushing the ball or another
+// robot): a step is not searched for them (the search would crawl, and find
+// a new contact at every step); if they meet by its end, their contact is
+// found there, as fixed steps would (and one that only dips in and out within
+// the step is not answered, as with fixed steps). A pair that was parting
+// faster than kRestingSpeed yet meets by the step's end, or meets deeper than
+// kRestingDepthSteps steps of kRestingSpeed, did not rest (a spinning
+// robot's corner swept into the other within the step): the step is
+// searched for its contact like any other.
 constexpr double kRestingGap = 1e-3;        // m
 constexpr double kRestingSpeed = 0.05;      // m/s
 constexpr double kRestingDepthSteps = 2.0;  // steps of dt: resting bodies, closing under kRestingSpeed, meet shallower
