@@ -156,20 +156,20 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
     double x = state.x, y = state.y, theta = state.theta;
     for (const ExactPanel& panel : table.kinds) {
         // The input's share of each node's flow is the same on every panel of a kind.
-        // (Nodes 0 and 1, 2 and 3 two at a time, then node 4.)
+        // (The outer nodes two at a time, in the pairs they are read in
+        // below: a pair read back from two separate stores would stall.)
+        constexpr int mid = kGaussNodes / 2;
         std::array<double, kGaussNodes> nodeSpeedInput, nodeTurnInput;
         const Pair G0 = {g(0), g(0)}, G1 = {g(1), g(1)};
-        for (const int i : {0, 2}) {
+        for (const int i : {0, mid + 1}) {
             store(&nodeSpeedInput[i], load(&panel.speedFromG0[i]) * G0 + load(&panel.speedFromG1[i]) * G1);
             store(&nodeTurnInput[i], load(&panel.headingFromG0[i]) * G0 + load(&panel.headingFromG1[i]) * G1);
         }
-        constexpr int last = kGaussNodes - 1;
-        nodeSpeedInput[last] = panel.speedFromG0[last] * g(0) + panel.speedFromG1[last] * g(1);
-        nodeTurnInput[last] = panel.headingFromG0[last] * g(0) + panel.headingFromG1[last] * g(1);
+        nodeSpeedInput[mid] = panel.speedFromG0[mid] * g(0) + panel.speedFromG1[mid] * g(1);
+        nodeTurnInput[mid] = panel.headingFromG0[mid] * g(0) + panel.headingFromG1[mid] * g(1);
         const Eigen::Vector2d panelVelocityInput = panel.flow.Psi * g;
         const double panelTurnInput = panel.flow.Omega.row(1).dot(g);
         for (int p = 0; p < panel.repeat; ++p) {
-            constexpr int mid = kGaussNodes / 2;
             const double v0 = u(0), w0 = u(1);
             // Each node's speed and heading; the outer nodes two at a time
             // (0 and 1, 3 and 4), the same operations in the same order as
@@ -186,11 +186,13 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
             heading[mid] = (theta + (panel.headingFromV[mid] * v0 + panel.headingFromW[mid] * w0)) + nodeTurnInput[mid];
             const CosSin midRotation = cosSin(heading[mid]);
             const double midCos = midRotation.c, midSin = midRotation.s;
-            // The nodes' cosine and sine from the middle node's by angle
+            // The quadrature's terms w v cos(heading) and w v sin(heading),
+            // with the nodes' cosine and sine from the middle node's by angle
             // addition, the small angle's by series (sinCosNearZero), or,
             // beyond kSmallTurn, their own.
-            std::array<double, kGaussNodes> cosine, sine;
-            cosine[mid] = midCos, sine[mid] = midSin;
+            std::array<double, kGaussNodes> alongX, alongY;
+            alongX[mid] = panel.weights[mid] * v[mid] * midCos;
+            alongY[mid] = panel.weights[mid] * v[mid] * midSin;
             const Pair turnLow = load(&heading[0]) - heading[mid], turnHigh = load(&heading[mid + 1]) - heading[mid];
             const Pair qLow = turnLow * turnLow, qHigh = turnHigh * turnHigh;
             if (qLow[0] <= 0.04 && qLow[1] <= 0.04 && qHigh[0] <= 0.04 && qHigh[1] <= 0.04) {
@@ -198,33 +200,29 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
                 for (const auto& [i, turn, q] : {std::tuple{0, turnLow, qLow}, std::tuple{mid + 1, turnHigh, qHigh}}) {
                     Pair s, c;
                     sinCosSmall(turn, q, s, c);
-                    store(&cosine[i], midCos * c - midSin * s);
-                    store(&sine[i], midSin * c + midCos * s);
+                    const Pair weighted = load(&panel.weights[i]) * load(&v[i]);
+                    store(&alongX[i], weighted * (midCos * c - midSin * s));
+                    store(&alongY[i], weighted * (midSin * c + midCos * s));
                 }
             } else {
                 for (int i = 0; i < kGaussNodes; ++i) {
                     if (i == mid) continue;
                     const double turn = heading[i] - heading[mid];  // rad
+                    double cosine, sine;
                     if (std::abs(turn) <= kSmallTurn) {
                         double s, c;
                         sinCosNearZero(turn, s, c);
-                        cosine[i] = midCos * c - midSin * s;
-                        sine[i] = midSin * c + midCos * s;
+                        cosine = midCos * c - midSin * s;
+                        sine = midSin * c + midCos * s;
                     } else {
                         const CosSin h = cosSin(heading[i]);
-                        cosine[i] = h.c, sine[i] = h.s;
+                        cosine = h.c, sine = h.s;
                     }
+                    alongX[i] = panel.weights[i] * v[i] * cosine;
+                    alongY[i] = panel.weights[i] * v[i] * sine;
                 }
             }
-            // The quadrature's terms two at a time, summed in node order.
-            std::array<double, kGaussNodes> alongX, alongY;
-            for (const int i : {0, mid + 1}) {
-                const Pair weighted = load(&panel.weights[i]) * load(&v[i]);
-                store(&alongX[i], weighted * load(&cosine[i]));
-                store(&alongY[i], weighted * load(&sine[i]));
-            }
-            alongX[mid] = panel.weights[mid] * v[mid] * cosine[mid];
-            alongY[mid] = panel.weights[mid] * v[mid] * sine[mid];
+            // Summed in node order.
             double dx = 0.0, dy = 0.0;
             for (int i = 0; i < kGaussNodes; ++i) {
                 dx += alongX[i];
