@@ -271,6 +271,29 @@ void TestExactIntegrator::stepBoundsHold() {
             QVERIFY(std::abs(s.v) + rho * std::abs(s.omega) <= bound);
         }
     }
+    // yawRateBound (the panel count's) is velocityBound's yaw rate, bit for
+    // bit, and bounds |w| along the exact trajectory; infinite for a broken state.
+    for (const RobotModel& model : {m, makeRobotModel(RobotParams{})}) {
+        for (int trial = 0; trial < 200; ++trial) {
+            RobotState s;
+            s.v = speed(rng);
+            s.omega = yaw(rng);
+            const Voltages e{volt(rng), volt(rng)};
+            const double bound = yawRateBound(model, s, e);
+            QVERIFY(bound == velocityBound(model, s, e)(1));  // (QCOMPARE would allow a fuzz)
+            for (int k = 0; k < 100; ++k) {
+                integrateRobot(model, s, e, 5e-3, Integrator::Exact);
+                QVERIFY(std::abs(s.omega) <= bound);
+            }
+        }
+        for (const double broken : {NAN, INFINITY, -INFINITY}) {
+            RobotState s;
+            s.v = broken;
+            QCOMPARE(yawRateBound(model, s, {1.0, 2.0}), INFINITY);
+            s.v = 0.0, s.omega = broken;
+            QCOMPARE(yawRateBound(model, s, {1.0, 2.0}), INFINITY);
+        }
+    }
     // robotTravelBound bounds the path length of every corner of the robot
     // (measured along the exact trajectory in steps of 0.5 ms) at every T,
     // and with arm 0 the distance the centre has moved.

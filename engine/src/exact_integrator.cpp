@@ -90,7 +90,7 @@ ExactStepTable makeExactStepTable(const RobotModel& model, double h, int panels)
 }
 
 int exactPanelsFor(const RobotModel& model, const RobotState& state, const Voltages& e, double h) {
-    const double yawRate = velocityBound(model, state, e)(1);  // rad/s, over the whole step
+    const double yawRate = yawRateBound(model, state, e);  // rad/s, over the whole step
     const double need = yawRate * h / kPanelTurn;
     // Also NaN or infinite (a state already broken: no number of panels
     // makes it accurate, and the most would only stall the run).

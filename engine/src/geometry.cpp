@@ -26,17 +26,6 @@ std::array<Eigen::Vector2d, 4> robotVertices(const RobotState& pose, double side
             centre + Eigen::Vector2d(first.y(), -first.x())};
 }
 
-SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                                          const Eigen::Vector2d& p) {
-    const Eigen::Vector2d ab = b - a;
-    const double len2 = ab.squaredNorm();
-    SegmentClosestPoint c;
-    c.lambda = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    c.point = a + c.lambda * ab;
-    c.distance = (p - c.point).norm();
-    return c;
-}
-
 Eigen::Vector2d toRobotFrame(const RobotState& pose, const Eigen::Vector2d& p) {
     const CosSin r = cosSin(pose.theta);
     const double c = r.c, s = r.s;

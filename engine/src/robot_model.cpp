@@ -100,6 +100,20 @@ Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, 
     return bound;
 }
 
+double yawRateBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
+    // (velocityBound's products, row 1 only: the same operations, so the same bits.)
+    if (!std::isfinite(state.v) || !std::isfinite(state.omega)) return INFINITY;
+    const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
+    double bound = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        const Eigen::Matrix2d& P = model.modeProjector[k];
+        const double start = P(1, 0) * state.v + P(1, 1) * state.omega;
+        const double end = P(1, 0) * target(0) + P(1, 1) * target(1);
+        bound += std::max(std::abs(start), std::abs(end));
+    }
+    return std::isfinite(bound) && std::isfinite(target(0)) ? bound : INFINITY;
+}
+
 double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
     const Eigen::Vector2d bound = velocityBound(model, state, e);
     return bound(0) + boundingRadius(model.params.side) * bound(1);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -111,7 +112,17 @@ struct SegmentClosestPoint {
     Eigen::Vector2d point = Eigen::Vector2d::Zero();  // a + lambda (b - a), m
     double distance = 0.0;                            // |p - point|, m
 };
-SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p);
+// (Inline: the separations and the walls' tests call it in their inner loops.)
+inline SegmentClosestPoint closestPointOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                                 const Eigen::Vector2d& p) {
+    const Eigen::Vector2d ab = b - a;
+    const double len2 = ab.squaredNorm();
+    SegmentClosestPoint c;
+    c.lambda = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    c.point = a + c.lambda * ab;
+    c.distance = (p - c.point).norm();
+    return c;
+}
 
 // p expressed in the robot's frame (x forward, y to the left), m.
 Eigen::Vector2d toRobotFrame(const RobotState& pose, const Eigen::Vector2d& p);

@@ -57,6 +57,10 @@ Eigen::Vector2d velocityAfter(const RobotModel& model, const RobotState& state, 
 // (m/s, rad/s); infinite when the state or the model is not finite.
 Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, const Voltages& e);
 
+// velocityBound's second component alone, rad/s (the same number; what the
+// exact step's panel count reads, at every step of every robot).
+double yawRateBound(const RobotModel& model, const RobotState& state, const Voltages& e);
+
 // A bound on the speed of every point of the robot, |v| + |w| s/sqrt2, m/s,
 // at every time t >= 0 under the same conditions (from velocityBound).
 double pointSpeedBound(const RobotModel& model, const RobotState& state, const Voltages& e);
