@@ -478,12 +478,11 @@ void TestExactIntegrator::tableCacheGivesTheTablesItWouldBuild() {
         for (std::size_t k = 0; k < a.kinds.size(); ++k) {
             const ExactPanel &p = a.kinds[k], &q = b.kinds[k];
             if (p.length != q.length || p.repeat != q.repeat || p.flow.Phi != q.flow.Phi || p.flow.Psi != q.flow.Psi ||
-                p.flow.Omega != q.flow.Omega || p.weights != q.weights)
+                p.flow.Omega != q.flow.Omega || p.weights != q.weights || p.speedFromV != q.speedFromV ||
+                p.speedFromW != q.speedFromW || p.headingFromV != q.headingFromV || p.headingFromW != q.headingFromW ||
+                p.speedFromG0 != q.speedFromG0 || p.speedFromG1 != q.speedFromG1 ||
+                p.headingFromG0 != q.headingFromG0 || p.headingFromG1 != q.headingFromG1)
                 return false;
-            for (int i = 0; i < kGaussNodes; ++i)
-                if (p.nodes[i].Phi != q.nodes[i].Phi || p.nodes[i].Psi != q.nodes[i].Psi ||
-                    p.nodes[i].Omega != q.nodes[i].Omega)
-                    return false;
         }
         return true;
     };

@@ -52,16 +52,16 @@ ExactPanel makePanel(const RobotModel& model, double length, int repeat) {
     p.repeat = repeat;
     p.flow = linearFlow(model.A, length);
     for (int i = 0; i < kGaussNodes; ++i) {
-        p.nodes[i] = linearFlow(model.A, kNodeOffsets[i] * length);
+        const LinearFlow node = linearFlow(model.A, kNodeOffsets[i] * length);  // from the panel's start
         p.weights[i] = kNodeWeights[i] * length;
-        p.speedFromV[i] = p.nodes[i].Phi(0, 0);
-        p.speedFromW[i] = p.nodes[i].Phi(0, 1);
-        p.headingFromV[i] = p.nodes[i].Psi(1, 0);
-        p.headingFromW[i] = p.nodes[i].Psi(1, 1);
-        p.speedFromG0[i] = p.nodes[i].Psi(0, 0);
-        p.speedFromG1[i] = p.nodes[i].Psi(0, 1);
-        p.headingFromG0[i] = p.nodes[i].Omega(1, 0);
-        p.headingFromG1[i] = p.nodes[i].Omega(1, 1);
+        p.speedFromV[i] = node.Phi(0, 0);
+        p.speedFromW[i] = node.Phi(0, 1);
+        p.headingFromV[i] = node.Psi(1, 0);
+        p.headingFromW[i] = node.Psi(1, 1);
+        p.speedFromG0[i] = node.Psi(0, 0);
+        p.speedFromG1[i] = node.Psi(0, 1);
+        p.headingFromG0[i] = node.Omega(1, 0);
+        p.headingFromG1[i] = node.Omega(1, 1);
     }
     return p;
 }

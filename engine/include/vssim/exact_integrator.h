@@ -31,20 +31,19 @@ constexpr int kGaussNodes = 5;
 constexpr double kPanelTurn = 1.0;   // rad: the most the heading may turn in one panel
 constexpr double kPanelDecay = 1.0;  // the most |lambda| h_panel may be (fastest mode)
 
-// One kind of panel: its length and the flows to its quadrature nodes.
+// One kind of panel: its length, its flow, and what the quadrature reads of
+// the flows from the panel's start to each of its nodes: their rows, node
+// by node (so that the exact step can take two nodes at a time). At node i,
+// v = speedFromV[i] v0 + speedFromW[i] w0 + speedFromG0[i] g0 + speedFromG1[i] g1
+// (Phi's and Psi's first rows; g = G e), and the heading has turned by
+// headingFromV[i] v0 + headingFromW[i] w0 + headingFromG0[i] g0 + headingFromG1[i] g1
+// (Psi's and Omega's second rows).
 struct ExactPanel {
     double length = 0.0;                        // s
     int repeat = 1;                             // how many such panels follow each other
     LinearFlow flow;                            // flow over the whole panel
-    std::array<LinearFlow, kGaussNodes> nodes;  // flow from the panel's start to each node
     std::array<double, kGaussNodes> weights{};  // quadrature weights times the length, s
-    // The rows of the nodes' flows the quadrature reads, node by node (for
-    // loops over the nodes that the compiler can run two at a time):
-    // v at node i is speedFromV[i] v0 + speedFromW[i] w0 + (input's share),
-    // the turn to it headingFromV[i] v0 + headingFromW[i] w0 + (share).
-    std::array<double, kGaussNodes> speedFromV{}, speedFromW{}, headingFromV{}, headingFromW{};
-    // ...and the input's shares: the rows of the nodes' Psi and Omega that
-    // multiply g = G e (for v and for the heading).
+    std::array<double, kGaussNodes> speedFromV{}, speedFromW{}, headingFromV{}, headingFromW{};  // (units: linear_flow.h)
     std::array<double, kGaussNodes> speedFromG0{}, speedFromG1{}, headingFromG0{}, headingFromG1{};
 };
 
