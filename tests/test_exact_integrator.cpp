@@ -260,11 +260,16 @@ void TestExactIntegrator::stepBoundsHold() {
     const double rho = m.params.side / std::sqrt(2.0);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> volt(-7.4, 7.4), speed(-2.5, 2.5), yaw(-60.0, 60.0);
-    for (int trial = 0; trial < 200; ++trial) {
+    // A random start (speed and yaw rate) and random voltages, drawn in that order.
+    auto randomStart = [&] {
         RobotState s;
         s.v = speed(rng);
         s.omega = yaw(rng);
         const Voltages e{volt(rng), volt(rng)};
+        return std::pair{s, e};
+    };
+    for (int trial = 0; trial < 200; ++trial) {
+        auto [s, e] = randomStart();
         const double bound = pointSpeedBound(m, s, e);
         for (int k = 0; k < 400; ++k) {
             integrateRobot(m, s, e, 2e-3, Integrator::Exact);
@@ -275,10 +280,7 @@ void TestExactIntegrator::stepBoundsHold() {
     // bit, and bounds |w| along the exact trajectory; infinite for a broken state.
     for (const RobotModel& model : {m, makeRobotModel(RobotParams{})}) {
         for (int trial = 0; trial < 200; ++trial) {
-            RobotState s;
-            s.v = speed(rng);
-            s.omega = yaw(rng);
-            const Voltages e{volt(rng), volt(rng)};
+            auto [s, e] = randomStart();
             const double bound = yawRateBound(model, s, e);
             QVERIFY(bound == velocityBound(model, s, e)(1));  // (QCOMPARE would allow a fuzz)
             for (int k = 0; k < 100; ++k) {
@@ -298,10 +300,7 @@ void TestExactIntegrator::stepBoundsHold() {
     // (measured along the exact trajectory in steps of 0.5 ms) at every T,
     // and with arm 0 the distance the centre has moved.
     for (int trial = 0; trial < 200; ++trial) {
-        RobotState s;
-        s.v = speed(rng);
-        s.omega = yaw(rng);
-        const Voltages e{volt(rng), volt(rng)};
+        auto [s, e] = randomStart();
         const RobotState start = s;
         std::array<Eigen::Vector2d, 4> corners = robotVertices(s, m.params.side);
         double path = 0.0;  // m, the longest corner path so far
