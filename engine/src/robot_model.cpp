@@ -101,7 +101,9 @@ Eigen::Vector2d velocityBound(const RobotModel& model, const RobotState& state, 
 }
 
 double yawRateBound(const RobotModel& model, const RobotState& state, const Voltages& e) {
-    // (velocityBound's products, row 1 only: the same operations, so the same bits.)
+    // (velocityBound's products, row 1 only: the same operations, so the same
+    // bits; infinite where it is, for a state or voltages not finite, which
+    // make its other row, or this one, not finite.)
     if (!std::isfinite(state.v) || !std::isfinite(state.omega)) return INFINITY;
     const Eigen::Vector2d target = model.steadyGain * Eigen::Vector2d(e.right, e.left);
     double bound = 0.0;
