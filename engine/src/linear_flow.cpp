@@ -19,6 +19,10 @@ constexpr int kMaxDoublings = 200;
 // accuracy, down to entries a thousandth of |A|.
 constexpr double kTaylorRemainder = 8.7e-19;
 
+// Two doubles operated on at once (one SSE2 register on x86-64; the
+// compiler's generic vectors elsewhere), lane by lane as scalars.
+typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
+
 // 1 / k! for k = 0 to kTaylorTerms + 2.
 constexpr std::array<double, kTaylorTerms + 3> kInverseFactorial = [] {
     std::array<double, kTaylorTerms + 3> f{};
@@ -46,7 +50,9 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
     int doublings = 0;
     if (std::isfinite(norm) && norm > kScaledNorm)
         doublings = std::min(kMaxDoublings, static_cast<int>(std::ceil(std::log2(norm / kScaledNorm))));
-    const double tau = std::ldexp(t, -doublings);  // exact: a power-of-two scaling
+    // Exact: a power-of-two scaling (none in most calls: a step of
+    // milliseconds, whose |A t| is already below kScaledNorm).
+    const double tau = doublings == 0 ? t : std::ldexp(t, -doublings);
 
     // Phi = sum X^k / k!, Psi = tau sum X^k / (k+1)!, Omega = tau^2 sum
     // X^k / (k+2)! with X = A tau. By Cayley-Hamilton X^2 = tr(X) X - det(X) I,
@@ -57,29 +63,26 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
     // p_k and q_k X cancel by a factor of about k; the terms they make up
     // fall as |X|^k / k!, so the flow stays within a few units of rounding.)
     const Eigen::Matrix2d X = A * tau;
-    const int terms = taylorTermsFor(std::ldexp(norm, -doublings));
+    const int terms = taylorTermsFor(doublings == 0 ? norm : std::ldexp(norm, -doublings));
     const double trace = X.trace(), det = X(0, 0) * X(1, 1) - X(0, 1) * X(1, 0);
-    std::array<double, kTaylorTerms + 1> p{}, q{};
-    p[0] = 1.0;
-    for (int k = 0; k < terms; ++k) {
-        p[k + 1] = -det * q[k];
-        q[k + 1] = p[k] + trace * q[k];
-    }
-    double phiI = 0.0, phiX = 0.0, psiI = 0.0, psiX = 0.0, omegaI = 0.0, omegaX = 0.0;
+    // (p_k, q_k) side by side, so that each series' two sums go as one pair
+    // of doubles: each lane does its scalar sum's operations in the same
+    // order, so the same bits. Entries 0 to `terms` are written before read.
+    std::array<Pair, kTaylorTerms + 1> pq;
+    pq[0] = Pair{1.0, 0.0};
+    for (int k = 0; k < terms; ++k) pq[k + 1] = Pair{-det * pq[k][1], pq[k][0] + trace * pq[k][1]};
+    Pair phi = {0.0, 0.0}, psi = {0.0, 0.0}, omega = {0.0, 0.0};  // (the I and the X sums)
     for (int k = terms; k >= 0; --k) {
-        phiI += p[k] * kInverseFactorial[k];
-        phiX += q[k] * kInverseFactorial[k];
-        psiI += p[k] * kInverseFactorial[k + 1];
-        psiX += q[k] * kInverseFactorial[k + 1];
-        omegaI += p[k] * kInverseFactorial[k + 2];
-        omegaX += q[k] * kInverseFactorial[k + 2];
+        phi += pq[k] * kInverseFactorial[k];
+        psi += pq[k] * kInverseFactorial[k + 1];
+        omega += pq[k] * kInverseFactorial[k + 2];
     }
     const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
     LinearFlow f;
     f.t = tau;
-    f.Phi = phiI * I + phiX * X;
-    f.Psi = tau * (psiI * I + psiX * X);
-    f.Omega = (tau * tau) * (omegaI * I + omegaX * X);
+    f.Phi = phi[0] * I + phi[1] * X;
+    f.Psi = tau * (psi[0] * I + psi[1] * X);
+    f.Omega = (tau * tau) * (omega[0] * I + omega[1] * X);
     for (int d = 0; d < doublings; ++d) {
         const Eigen::Matrix2d onePlusPhi = I + f.Phi;
         f.Omega = onePlusPhi * f.Omega + f.t * f.Psi;
