@@ -6,6 +6,7 @@
 #include <cstring>
 #include <tuple>
 
+#include "double_pair.h"
 #include "vssim/geometry.h"
 
 namespace vssim {
@@ -23,17 +24,6 @@ constexpr std::array<double, kGaussNodes> kNodeWeights = {
 };
 
 constexpr int kMaxPanels = 1 << 20;
-
-// Two doubles operated on at once (one SSE2 register on x86-64; the
-// compiler's generic vectors elsewhere): each lane's arithmetic is the
-// scalar IEEE operation, so results are the same bit for bit.
-typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
-Pair load(const double* p) {
-    Pair r;
-    std::memcpy(&r, p, sizeof r);
-    return r;
-}
-void store(double* p, const Pair& value) { std::memcpy(p, &value, sizeof value); }
 
 static_assert(kGaussNodes == 5, "integrateRobotExact takes the nodes as two pairs and one more");
 
@@ -162,8 +152,9 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
         std::array<double, kGaussNodes> nodeSpeedInput, nodeTurnInput;
         const Pair G0 = {g(0), g(0)}, G1 = {g(1), g(1)};
         for (const int i : {0, mid + 1}) {
-            store(&nodeSpeedInput[i], load(&panel.speedFromG0[i]) * G0 + load(&panel.speedFromG1[i]) * G1);
-            store(&nodeTurnInput[i], load(&panel.headingFromG0[i]) * G0 + load(&panel.headingFromG1[i]) * G1);
+            storePair(&nodeSpeedInput[i], loadPair(&panel.speedFromG0[i]) * G0 + loadPair(&panel.speedFromG1[i]) * G1);
+            storePair(&nodeTurnInput[i],
+                      loadPair(&panel.headingFromG0[i]) * G0 + loadPair(&panel.headingFromG1[i]) * G1);
         }
         nodeSpeedInput[mid] = panel.speedFromG0[mid] * g(0) + panel.speedFromG1[mid] * g(1);
         nodeTurnInput[mid] = panel.headingFromG0[mid] * g(0) + panel.headingFromG1[mid] * g(1);
@@ -177,10 +168,11 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
             std::array<double, kGaussNodes> v, heading;
             const Pair V0 = {v0, v0}, W0 = {w0, w0};
             for (const int i : {0, mid + 1}) {
-                store(&v[i], (load(&panel.speedFromV[i]) * V0 + load(&panel.speedFromW[i]) * W0) +
-                                 load(&nodeSpeedInput[i]));
-                store(&heading[i], (theta + (load(&panel.headingFromV[i]) * V0 + load(&panel.headingFromW[i]) * W0)) +
-                                       load(&nodeTurnInput[i]));
+                storePair(&v[i], (loadPair(&panel.speedFromV[i]) * V0 + loadPair(&panel.speedFromW[i]) * W0) +
+                                     loadPair(&nodeSpeedInput[i]));
+                storePair(&heading[i],
+                          (theta + (loadPair(&panel.headingFromV[i]) * V0 + loadPair(&panel.headingFromW[i]) * W0)) +
+                              loadPair(&nodeTurnInput[i]));
             }
             v[mid] = (panel.speedFromV[mid] * v0 + panel.speedFromW[mid] * w0) + nodeSpeedInput[mid];
             heading[mid] = (theta + (panel.headingFromV[mid] * v0 + panel.headingFromW[mid] * w0)) + nodeTurnInput[mid];
@@ -193,16 +185,17 @@ void integrateRobotExact(const RobotModel& model, const ExactStepTable& table, R
             std::array<double, kGaussNodes> alongX, alongY;
             alongX[mid] = panel.weights[mid] * v[mid] * midCos;
             alongY[mid] = panel.weights[mid] * v[mid] * midSin;
-            const Pair turnLow = load(&heading[0]) - heading[mid], turnHigh = load(&heading[mid + 1]) - heading[mid];
+            const Pair turnLow = loadPair(&heading[0]) - heading[mid],
+                       turnHigh = loadPair(&heading[mid + 1]) - heading[mid];
             const Pair qLow = turnLow * turnLow, qHigh = turnHigh * turnHigh;
             if (qLow[0] <= 0.04 && qLow[1] <= 0.04 && qHigh[0] <= 0.04 && qHigh[1] <= 0.04) {
                 // Most panels: every turn within 0.2 rad, one short series for all.
                 for (const auto& [i, turn, q] : {std::tuple{0, turnLow, qLow}, std::tuple{mid + 1, turnHigh, qHigh}}) {
                     Pair s, c;
                     sinCosSmall(turn, q, s, c);
-                    const Pair weighted = load(&panel.weights[i]) * load(&v[i]);
-                    store(&alongX[i], weighted * (midCos * c - midSin * s));
-                    store(&alongY[i], weighted * (midSin * c + midCos * s));
+                    const Pair weighted = loadPair(&panel.weights[i]) * loadPair(&v[i]);
+                    storePair(&alongX[i], weighted * (midCos * c - midSin * s));
+                    storePair(&alongY[i], weighted * (midSin * c + midCos * s));
                 }
             } else {
                 for (int i = 0; i < kGaussNodes; ++i) {

@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "double_pair.h"
+
 namespace vssim {
 
 namespace {
@@ -18,10 +20,6 @@ constexpr int kMaxDoublings = 200;
 // (an off-diagonal one, a coupling of the wheels) keeps its own relative
 // accuracy, down to entries a thousandth of |A|.
 constexpr double kTaylorRemainder = 8.7e-19;
-
-// Two doubles operated on at once (one SSE2 register on x86-64; the
-// compiler's generic vectors elsewhere), lane by lane as scalars.
-typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
 
 // 1 / k! for k = 0 to kTaylorTerms + 2.
 constexpr std::array<double, kTaylorTerms + 3> kInverseFactorial = [] {
