@@ -167,6 +167,7 @@ private slots:
     void gapsCloseAlongTheNormal();
     void longStretchOfFullSpinNearAWall();
     void restingPairHidesNoOtherContact();
+    void grazingPassHidesNoOtherContact();
     void firstContactAgainstBruteForce_data();
     void firstContactAgainstBruteForce();
     void headOn();
@@ -507,6 +508,93 @@ void TestTimeOfImpact::restingPairHidesNoOtherContact() {
         }
     }
     QVERIFY(alone > 0.0 && alone < 0.001);  // within the first step, not at its end
+}
+
+void TestTimeOfImpact::grazingPassHidesNoOtherContact() {
+    // A robot spinning and drifting (voltages +max and -0.8 max) whose
+    // corner sweeps past the top wall of a 1 m box within the first step,
+    // 1.05 um from it at its nearest: closer than the search can settle in
+    // kMaxAdvancements (it crawls in steps of the gap over the closing
+    // speed), yet never touching (kTouchDistance is 1 um), and not resting
+    // (it approaches the wall at more than kRestingSpeed when the step
+    // starts). Beside it the ball rolls into the same wall, touching it at
+    // about 0.9 ms. The grazing pass must not send the whole step to the
+    // grid (it once did: the ball's contact was then answered at the step's
+    // end beside the grazer, and at its instant when the robot was elsewhere).
+    const RobotParams params;
+    const RobotModel model = makeRobotModel(params);
+    const Voltages drive{params.max_voltage, -0.8 * params.max_voltage};
+    RobotState grazer;  // at its steady motion (from rest, 2 s)
+    integrateRobotExact(model, makeExactStepTable(model, 2.0, 200), grazer, drive);
+    QVERIFY(grazer.v > 0.1 && grazer.omega > 40.0);
+    // A corner points straight up (heading -pi/4) 1.8 ms in; as the centre
+    // drifts away from the wall, the corner is nearest to it before that.
+    grazer.x = 0.0;
+    grazer.y = 0.0;
+    grazer.theta = -M_PI / 4 - grazer.omega * 1.8e-3;
+    const double half = 0.5 * params.side, corner = half * std::sqrt(2.0);  // m
+    // The highest any corner gets within the step, every 0.1 us of the exact
+    // motion (between samples it can be higher by about 1e-13 m at most).
+    const ExactStepTable sample = makeExactStepTable(model, 1e-7, 1);
+    double highest = -INFINITY, when = NAN;  // m above the centre's start, s
+    RobotState r = grazer;
+    for (int k = 0; k <= 10000; ++k) {
+        for (int c = 0; c < 4; ++c) {
+            const double y = r.y + corner * std::sin(r.theta + M_PI / 4 + c * M_PI / 2);
+            if (y > highest) highest = y, when = k * 1e-7;
+        }
+        integrateRobotExact(model, sample, r, drive);
+    }
+    const double nearest = 1.05e-6;  // m
+    grazer.y = 0.5 - nearest - highest;
+    QVERIFY2(when > 0.3e-3 && when < 0.8e-3, qPrintable(QString("nearest at %1 s").arg(when)));
+    // Checked against the separation the planner measures: within the
+    // graze's band all along, and approaching fast at the start.
+    const Wall top{{0.5, 0.5}, {-0.5, 0.5}, {0.0, -1.0}};
+    double least = INFINITY;  // m
+    r = grazer;
+    for (int k = 0; k <= 10000; ++k) {
+        const Separation sep = robotWallSeparation(r, params.side, top);
+        QVERIFY(!sep.overlapping);
+        least = std::min(least, sep.distance);
+        integrateRobotExact(model, sample, r, drive);
+    }
+    QVERIFY2(least > kTouchDistance && least < 1.1e-6, qPrintable(QString("nearest %1 m").arg(least)));
+    const double startGap = robotWallSeparation(grazer, params.side, top).distance;
+    QVERIFY2(startGap > 10e-6 && startGap < kRestingGap, qPrintable(QString("%1 m at the start").arg(startGap)));
+    const double radius = BallParams{}.radius;
+    const BallState ball{0.065, 0.5 - radius - 0.45e-3, 0.0, 0.5};  // 0.45 mm from the wall at 0.5 m/s
+    RobotState elsewhere = grazer;
+    elsewhere.x = -0.3;
+    elsewhere.y = -0.3;
+    double alone = NAN;  // s: the ball's contact with the robot far away
+    for (const auto& [where, robot] : {std::pair{"far away", elsewhere}, std::pair{"grazing the wall", grazer}}) {
+        Scene s = boxScene({robot}, ball, 1.0);
+        s.commands.push_back({0.0, 0, drive});
+        Simulation once(s);
+        const AdvanceReport rep = once.advanceTo(1);
+        if (std::isnan(alone)) alone = rep.firstImpact;
+        QVERIFY2(rep.impacts == 1 && rep.firstImpact == alone,
+                 qPrintable(QString("robot %1: %2 contacts at their instant, the first at %3 s (far away: %4 s)")
+                                .arg(where)
+                                .arg(rep.impacts)
+                                .arg(rep.firstImpact)
+                                .arg(alone)));
+        // The same run cut at each of the first steps: the same end.
+        Simulation whole(s);
+        whole.advanceTo(60);
+        for (const std::int64_t cut : {1, 2, 7}) {
+            Simulation parts(s);
+            parts.advanceTo(cut);
+            parts.advanceTo(60);
+            QVERIFY2(test::maxPositionDifference(parts.state(), whole.state()) < 1e-9,
+                     qPrintable(QString("robot %1, cut after step %2: %3 m from the run in one call")
+                                    .arg(where)
+                                    .arg(cut)
+                                    .arg(test::maxPositionDifference(parts.state(), whole.state()))));
+        }
+    }
+    QVERIFY(alone > 0.85e-3 && alone < 0.95e-3);  // the ball's own instant, not the step's end
 }
 
 void TestTimeOfImpact::longStretchOfFullSpinNearAWall() {

@@ -572,6 +572,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     double first = dt;  // s into the step
     bool touched = false;
     bool restingMeet = false;  // a resting pair meets by the step's end: answered there
+    bool unsettled = false;    // a grazing pass the search could not settle: answered at the step's end
     for (BodyGap& g : gaps_) {
         const bool wall = g.b.kind == BodyKind::Wall;
         const MotionBound boundA = boundWithinStep(g.a), boundB = wall ? MotionBound{} : boundWithinStep(g.b);
@@ -623,14 +624,22 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         if (a.touched) {
             first = a.t;
             touched = true;
-        } else if (!a.finished) {  // a grazing pass the search could not settle: a step on the grid
-            restoreStepping(ballMoving);
-            return ImpactStep::Unresolved;
+        } else if (!a.finished) {
+            // A grazing pass the search could not settle (within a few
+            // micrometres for much of the step, kMaxAdvancements): like a
+            // resting pair, it sends only itself to the step's end, where a
+            // contact of its, if any, is found (the other pairs are still
+            // searched, so that whether their contacts are answered at their
+            // instant does not depend on which bodies share the step). Should
+            // another pair's instant come after where this search stopped,
+            // the pair may meet before it: then it is found overlapping at
+            // the step's end, as on the grid.
+            unsettled = true;
         }
     }
     if (!touched) {
-        if (!restingMeet) return ImpactStep::Free;
-        // Only resting pairs meet: an ordinary step, its contacts found at its end.
+        if (!restingMeet && !unsettled) return ImpactStep::Free;
+        // Only resting or unsettled pairs may meet: an ordinary step, its contacts found at its end.
         restoreStepping(ballMoving);
         return ImpactStep::Unresolved;
     }

@@ -54,7 +54,9 @@ constexpr double kRestingGap = 1e-3;        // m
 constexpr double kRestingSpeed = 0.05;      // m/s
 constexpr double kRestingDepthSteps = 2.0;  // steps of dt: resting bodies, closing under kRestingSpeed, meet shallower
 // Iterations of one search, at most: beyond it the search reports how far it
-// got safely (a grazing pass that neither touches nor leaves).
+// got safely (a grazing pass that neither touches nor leaves). The planner
+// then treats that pair as a resting one: its contact, if any, is found at
+// the step's end, and the step's other pairs are still searched.
 constexpr int kMaxAdvancements = 256;
 
 // A robot's pose over one step [0, h]: the quintic Hermite interpolant of x, y

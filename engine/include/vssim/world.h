@@ -319,7 +319,9 @@ private:
     // One step of dt for the stepping bodies in which a gap of gaps_ may
     // close: Free (none did: the step is taken), Contact (the step was taken
     // with the contact answered at its instant),
-    // or Unresolved (the state is as before: take an ordinary step).
+    // or Unresolved (the state is as before: take an ordinary step; when
+    // only resting pairs meet, or a grazing pass could not be settled, and
+    // no other contact was found within the step).
     // After Contact, restoreStepping() puts the step's start back.
     enum class ImpactStep { Free, Contact, Unresolved };
     // The pairs of gaps_ within kContactSkin that approach are answered now
