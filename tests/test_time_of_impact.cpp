@@ -53,6 +53,17 @@ RobotState randomPose(std::mt19937& rng, double spread) {
 
 using test::boxScene;  // a scene on a large box with the given robots (default parameters) and the ball
 
+// How far (m) the run of a scene to step `end` in one call ends from the
+// same run cut after step `cut` (each body's centre, the farthest).
+double cutDifference(const Scene& s, std::int64_t cut, std::int64_t end) {
+    Simulation whole(s);
+    whole.advanceTo(end);
+    Simulation parts(s);
+    parts.advanceTo(cut);
+    parts.advanceTo(end);
+    return test::maxPositionDifference(parts.state(), whole.state());
+}
+
 // Whether any two bodies of a state overlap or a body crosses a wall (the
 // engine's own contact tests, which the planner's searches do not use).
 bool anyContact(const WorldModel& model, const WorldState& state) {
@@ -494,17 +505,12 @@ void TestTimeOfImpact::restingPairHidesNoOtherContact() {
                                 .arg(r.firstImpact)
                                 .arg(alone)));
         // The same run cut at each of the first steps: the same end.
-        Simulation whole(s);
-        whole.advanceTo(60);
         for (const std::int64_t cut : {1, 2, 7}) {
-            Simulation parts(s);
-            parts.advanceTo(cut);
-            parts.advanceTo(60);
-            QVERIFY2(test::maxPositionDifference(parts.state(), whole.state()) < 1e-9,
-                     qPrintable(QString("ball %1, cut after step %2: %3 m from the run in one call")
-                                    .arg(where)
-                                    .arg(cut)
-                                    .arg(test::maxPositionDifference(parts.state(), whole.state()))));
+            const double apart = cutDifference(s, cut, 60);
+            QVERIFY2(apart < 1e-9, qPrintable(QString("ball %1, cut after step %2: %3 m from the run in one call")
+                                                  .arg(where)
+                                                  .arg(cut)
+                                                  .arg(apart)));
         }
     }
     QVERIFY(alone > 0.0 && alone < 0.001);  // within the first step, not at its end
@@ -581,17 +587,12 @@ void TestTimeOfImpact::grazingPassHidesNoOtherContact() {
                                 .arg(rep.firstImpact)
                                 .arg(alone)));
         // The same run cut at each of the first steps: the same end.
-        Simulation whole(s);
-        whole.advanceTo(60);
         for (const std::int64_t cut : {1, 2, 7}) {
-            Simulation parts(s);
-            parts.advanceTo(cut);
-            parts.advanceTo(60);
-            QVERIFY2(test::maxPositionDifference(parts.state(), whole.state()) < 1e-9,
-                     qPrintable(QString("robot %1, cut after step %2: %3 m from the run in one call")
-                                    .arg(where)
-                                    .arg(cut)
-                                    .arg(test::maxPositionDifference(parts.state(), whole.state()))));
+            const double apart = cutDifference(s, cut, 60);
+            QVERIFY2(apart < 1e-9, qPrintable(QString("robot %1, cut after step %2: %3 m from the run in one call")
+                                                  .arg(where)
+                                                  .arg(cut)
+                                                  .arg(apart)));
         }
     }
     QVERIFY(alone > 0.85e-3 && alone < 0.95e-3);  // the ball's own instant, not the step's end
