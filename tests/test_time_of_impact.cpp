@@ -176,6 +176,7 @@ private slots:
     void pathFollowsTheExactMotion();
     void advancementStopsAtTheFirstTouch();
     void gapsCloseAlongTheNormal();
+    void extentGrowsOnlyAsFarAsTheTurnGoes();
     void longStretchOfFullSpinNearAWall();
     void restingPairHidesNoOtherContact();
     void grazingPassHidesNoOtherContact();
@@ -466,6 +467,77 @@ void TestTimeOfImpact::gapsCloseAlongTheNormal() {
                  qPrintable(QString("v %1 to %2 m/s, range %3 to %4")
                                 .arg(vMin).arg(vMax).arg(ranges.forwardLow).arg(ranges.forwardHigh)));
     }
+}
+
+void TestTimeOfImpact::extentGrowsOnlyAsFarAsTheTurnGoes() {
+    // A robot whose centre does not move (v = 0) and whose heading turns by
+    // d within [a, b]: along n its extent (s/2)(|cos phi| + |sin phi|), phi
+    // the angle from n to the heading, can grow only as far as that range
+    // of phi reaches towards a diagonal. With nothing else moving, the
+    // bound (closingSpeed) lets the gap close at all only when it is no
+    // wider than the growth it allows; so a gap just under the true growth
+    // (the largest extent over the range, sampled every 10 microradians) must
+    // be seen closing, and one wider than the room to s/sqrt2 never is.
+    const double side = RobotParams{}.side, half = side / 2;  // m
+    const Separation apart{0.0, false, Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d::Zero()};  // towards: +x, phi = theta
+    auto extent = [&](double phi) { return half * (std::abs(std::cos(phi)) + std::abs(std::sin(phi))); };
+    auto bodyTurning = [&](double phi0, double a, double b) {
+        MotionBound m;  // forwardLow = forwardHigh = linear = 0: only the extent can close the gap
+        m.turning = 30.0;
+        m.swing = std::max(-a, b), m.swingLow = a, m.swingHigh = b;
+        m.heading = cosSin(phi0);
+        m.side = side;
+        m.pointSpeed = boundingRadius(side) * m.turning;
+        return m;
+    };
+    auto closesAt = [&](double phi0, double a, double b, double gap) {
+        Separation s = apart;
+        s.distance = gap;
+        const MotionBound m = bodyTurning(phi0, a, b);
+        return closingSpeed(s, m, nullptr, m.pointSpeed);
+    };
+    auto trueGrowth = [&](double phi0, double a, double b) {
+        double most = 0.0;
+        const int samples = std::max(2, static_cast<int>((b - a) / 1e-5));  // (the sampled largest is never above the true one)
+        for (int k = 0; k <= samples; ++k) most = std::max(most, extent(phi0 + a + (b - a) * k / samples));
+        return most - extent(phi0);
+    };
+    // Turning from just before face on through it, by less than it takes to
+    // come back to where it started (0.4 rad): the extent only shrinks and
+    // nothing closes a 1 mm gap, though the room to s/sqrt2 is over 8 mm.
+    QVERIFY(boundingRadius(side) - extent(-0.2) > 0.008);
+    QCOMPARE(trueGrowth(-0.2, 0.0, 0.3), 0.0);
+    QCOMPARE(closesAt(-0.2, 0.0, 0.3, 0.001), 0.0);
+    // Turned the other way, towards the diagonal, the same gap may close; and
+    // turned a little past where it started, by as much as it then grows.
+    QVERIFY(closesAt(-0.2, -0.3, 0.0, 0.001) > 0.0);
+    const double past = trueGrowth(-0.2, 0.0, 0.5);  // m
+    QVERIFY(past > 1e-4);
+    QVERIFY(closesAt(-0.2, 0.0, 0.5, 0.999 * past) > 0.0);
+    // Random headings and turns, one-sided and two-sided, short and long.
+    std::mt19937 rng(17);
+    int tighter = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const double phi0 = uniform(rng, -M_PI, M_PI);
+        const int kind = trial % 3;  // turning left only, right only, both ways
+        const double reach = uniform(rng, 0.0, trial % 2 ? 0.4 : 2.0);  // rad
+        const double a = kind == 0 ? 0.0 : -reach * uniform(rng, 0.2, 1.0);
+        const double b = kind == 1 ? 0.0 : reach * uniform(rng, 0.2, 1.0);
+        const double grows = trueGrowth(phi0, a, b), room = boundingRadius(side) - extent(phi0);  // m
+        if (grows > 2e-6)
+            QVERIFY2(closesAt(phi0, a, b, 0.999 * grows) > 0.0,
+                     qPrintable(QString("trial %1: heading %2 rad turning %3 to %4 rad: its extent grows by %5 m, "
+                                        "yet nothing closes")
+                                    .arg(trial).arg(phi0).arg(a).arg(b).arg(grows)));
+        if (room > 2e-6)
+            QVERIFY2(closesAt(phi0, a, b, 1.001 * room) == 0.0,
+                     qPrintable(QString("trial %1: a gap wider than all the room closes").arg(trial)));
+        tighter += grows < 0.5 * room && room > 2e-6 && closesAt(phi0, a, b, 0.5 * room) == 0.0;
+    }
+    // The range's sign matters often enough to pay for itself: a gap of half
+    // the room, which the room alone would let close, is seen to stay open.
+    qInfo("a gap of half the room stays open in %d of 2000", tighter);
+    QVERIFY2(tighter > 300, qPrintable(QString("%1 of 2000").arg(tighter)));
 }
 
 void TestTimeOfImpact::restingPairHidesNoOtherContact() {

@@ -100,7 +100,9 @@ namespace {
 // nearest diagonal; after turning by at most tau it is at most
 // (s/sqrt2) cos(max(0, z0 - tau)), which is within (s/sqrt2) sin(z0) tau of
 // where it is now (cos is concave there) and never beyond s/sqrt2;
-// (s/sqrt2) sin z0 = (s/2) ||cos phi0| - |sin phi0||. The ball goes
+// (s/sqrt2) sin z0 = (s/2) ||cos phi0| - |sin phi0||; with the turn's
+// signed range known, it can grow only as far as that range takes phi
+// towards a diagonal (extentRoom). The ball goes
 // straight, slowing down: its speed along `towards` only falls, and its
 // extent is its radius.
 struct Approach {
@@ -108,6 +110,40 @@ struct Approach {
     double spin = 0.0;    // m/s: how fast the extent towards it can grow
     double room = 0.0;    // m: how much the extent towards it can grow at all
 };
+
+// How much a robot's extent along `towards` can grow while its heading
+// turns by d within [a, b] (rad, a <= 0 <= b; NaN: not known), m. The
+// extent is (s/sqrt2) cos z, z the angle from phi = phi0 + d to the nearest
+// diagonal (phi = pi/4 mod pi/2), z0 = z at d = 0; it grows only while phi
+// nears a diagonal. Turning by beta one way, phi either:
+//  - heads for a diagonal z0 away: the extent grows by (s/sqrt2)
+//    (cos(z0 - beta) - cos z0) <= rate beta (cos is concave on [-pi/2,
+//    pi/2]; past the diagonal too, as 1 - cos z0 <= z0 sin z0 there);
+//  - or heads away from it: the extent shrinks until phi is face on (at
+//    pi/4 - z0), then grows back and is where it started only at
+//    pi/2 - 2 z0 =: back; past that it is beyond by at most
+//    rate (beta - back) (the first case again, mirrored).
+// And never by more than `full`, the room to s/sqrt2. The larger of the
+// two ways' growths is the room. z0 itself is not computed: sin z0 =
+// |along - across| / sqrt2 =: q, and z0 <= q pi / (2 sqrt2) (sin is
+// concave on [0, pi/4]), a picoradian more against rounding; that end
+// makes `back` shorter, which allows more growth. Which way heads for the
+// diagonal: the sign of d|extent|/dphi = (s/2)(sgn(sin phi0) cos phi0 -
+// sgn(cos phi0) sin phi0); both ways when it is 0 (face on: both head for
+// one; on a diagonal nothing can grow anyway).
+double extentRoom(double along, double across, double cosine, double sine, double full, double rate, double a,
+                  double b) {
+    if (!(std::isfinite(a) && std::isfinite(b)) || !(full > 0.0)) return full;
+    constexpr double kSinToAngle = 1.1107207345395915;  // (pi/4) / sin(pi/4)
+    const double zHigh = std::abs(along - across) / std::sqrt(2.0) * kSinToAngle + 1e-12;  // rad, >= z0
+    const double back = 0.5 * kPi - 2.0 * zHigh;  // rad: turned by this away from the diagonal, the extent is back
+    auto growth = [&](double beta, bool towardsDiagonal) {  // m, after turning by beta >= 0 one way
+        return std::min(full, rate * (towardsDiagonal ? beta : std::max(0.0, beta - back)));
+    };
+    const double sign = (sine > 0.0 ? cosine : sine < 0.0 ? -cosine : 0.0) -
+                        (cosine > 0.0 ? sine : cosine < 0.0 ? -sine : 0.0);  // d|extent|/dphi's sign
+    return std::max(growth(b, sign >= 0.0), growth(-a, sign <= 0.0));
+}
 
 Approach approachAlong(const MotionBound& body, const Eigen::Vector2d& towards) {
     if (body.ball) return Approach{std::max(0.0, towards.dot(body.velocity))};
@@ -138,8 +174,9 @@ Approach approachAlong(const MotionBound& body, const Eigen::Vector2d& towards) 
                                              std::max(body.forwardHigh * cosLow, body.forwardHigh * cosHigh));
         if (signedLinear < linear) linear = signedLinear;
     }
-    return Approach{linear, half * std::abs(along - across) * body.turning,
-                    std::max(0.0, boundingRadius(body.side) - half * (along + across))};
+    const double rate = half * std::abs(along - across);  // m/rad: (s/sqrt2) sin z0, the extent's growth per radian at most
+    const double full = std::max(0.0, boundingRadius(body.side) - half * (along + across));  // m
+    return Approach{linear, rate * body.turning, extentRoom(along, across, cosine, sine, full, rate, a, b)};
 }
 
 }  // namespace
