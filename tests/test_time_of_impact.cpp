@@ -177,6 +177,7 @@ private slots:
     void advancementStopsAtTheFirstTouch();
     void gapsCloseAlongTheNormal();
     void extentGrowsOnlyAsFarAsTheTurnGoes();
+    void gapsMeasuredAgainAreTheOnesThatCanClose();
     void longStretchOfFullSpinNearAWall();
     void restingPairHidesNoOtherContact();
     void grazingPassHidesNoOtherContact();
@@ -538,6 +539,99 @@ void TestTimeOfImpact::extentGrowsOnlyAsFarAsTheTurnGoes() {
     // the room, which the room alone would let close, is seen to stay open.
     qInfo("a gap of half the room stays open in %d of 2000", tighter);
     QVERIFY2(tighter > 300, qPrintable(QString("%1 of 2000").arg(tighter)));
+}
+
+void TestTimeOfImpact::gapsMeasuredAgainAreTheOnesThatCanClose() {
+    // The planner measures all gaps once per stretch (findBodyGaps over
+    // the whole stretch), keeps those that may close before its end, and
+    // then measures only those again (remeasureBodyGaps) as the bodies
+    // move on. Five robots and the ball in a 0.6 m box under random
+    // voltages for a 30 ms stretch: after k steps of their free motion,
+    // (1) the kept gaps measured again are exactly what a fresh
+    // findBodyGaps gives those pairs (bit for bit), and (2) no pair that
+    // was left out touches before the stretch's end (its free motion
+    // sampled every 0.1 ms), which is what makes leaving it out safe.
+    std::mt19937 rng(23);
+    const double dt = 0.001, sample = 1e-4;
+    const int stretch = 30;  // steps
+    int kept = 0, left = 0, trials = 0;
+    for (; trials < 300; ++trials) {
+        std::vector<RobotState> robots;
+        while (robots.size() < 5) {
+            const RobotState r = randomPose(rng, 0.25);
+            bool spaced = true;
+            for (const RobotState& other : robots) spaced = spaced && std::hypot(r.x - other.x, r.y - other.y) > 0.08;
+            if (spaced) robots.push_back(r);
+        }
+        std::vector<Voltages> e;
+        for (RobotState& r : robots) {
+            r.v = uniform(rng, -0.3, 1.2);
+            r.omega = uniform(rng, -15.0, 15.0);
+            e.push_back({uniform(rng, -7.4, 7.4), uniform(rng, -7.4, 7.4)});
+        }
+        const BallState ball{uniform(rng, -0.27, 0.27), uniform(rng, -0.27, 0.27), uniform(rng, -1.0, 1.0),
+                             uniform(rng, -1.0, 1.0)};
+        const Scene s = boxScene(robots, ball, 0.6);
+        const FreeMotion motion(s);
+        const WorldModel& model = motion.model();
+        const std::vector<int> moving = {0, 1, 2, 3, 4};
+        auto stateAt = [&](int step) {
+            WorldState w = motion.at(step * dt, e);
+            w.voltages = e;
+            return w;
+        };
+        if (anyContact(model, stateAt(0)) || !(smallestGap(model, stateAt(0)) > kContactSkin)) continue;
+        std::vector<BodyGap> all, gaps;
+        BodyGapScratch scratch, fresh;
+        findBodyGaps(model, stateAt(0), moving, true, stretch * dt, all, scratch);
+        for (const BodyGap& g : all)
+            if (g.gap / (g.closing * dt) < stretch) gaps.push_back(g);  // as gapSafeSteps keeps them
+        auto samePair = [](const BodyGap& g, const BodyGap& h) {
+            return g.a.kind == h.a.kind && g.a.index == h.a.index && g.b.kind == h.b.kind && g.b.index == h.b.index;
+        };
+        // (2) The pairs left out (found but kept out, or out of reach) stay apart over the whole stretch.
+        std::vector<BodyGap> leftOut;
+        const BodyRef theBall{BodyKind::Ball, 0};
+        for (int i = 0; i < 5; ++i) {
+            const BodyRef robot{BodyKind::Robot, i};
+            for (int j = i + 1; j < 5; ++j) leftOut.push_back({robot, {BodyKind::Robot, j}});
+            leftOut.push_back({theBall, robot});
+            for (int w = 0; w < int(model.field.walls.size()); ++w) leftOut.push_back({robot, {BodyKind::Wall, w}});
+        }
+        for (int w = 0; w < int(model.field.walls.size()); ++w) leftOut.push_back({theBall, {BodyKind::Wall, w}});
+        leftOut.erase(std::remove_if(leftOut.begin(), leftOut.end(),
+                                     [&](const BodyGap& g) {
+                                         return std::any_of(gaps.begin(), gaps.end(),
+                                                            [&](const BodyGap& h) { return samePair(g, h); });
+                                     }),
+                      leftOut.end());
+        for (int k = 1; k <= int(std::lround(stretch * dt / sample)); ++k) {
+            const WorldState w = motion.at(k * sample, e);
+            for (const BodyGap& g : leftOut) {
+                const Separation sep = separationBetween(model, g.a, poseOf(w, g.a), g.b, poseOf(w, g.b));
+                QVERIFY2(!sep.overlapping && sep.distance > 0.0,
+                         qPrintable(QString("trial %1: a pair left out touches at %2 s").arg(trials).arg(k * sample)));
+            }
+        }
+        // (1) Measured again after k steps, against a fresh look.
+        const int k = 1 + int(uniform(rng, 0.0, 10.0));
+        const WorldState later = stateAt(k);
+        if (anyContact(model, later)) continue;  // (the free motion went through something: not a planner's state)
+        std::vector<BodyGap> again = gaps, look;
+        remeasureBodyGaps(model, later, (stretch - k) * dt, again, scratch);
+        findBodyGaps(model, later, moving, true, (stretch - k) * dt, look, fresh);
+        for (const BodyGap& g : again) {
+            const auto h = std::find_if(look.begin(), look.end(), [&](const BodyGap& f) { return samePair(g, f); });
+            QVERIFY2(h != look.end(), qPrintable(QString("trial %1: a kept pair out of a fresh look's reach").arg(trials)));
+            QVERIFY2(g.gap == h->gap && g.closing == h->closing && g.normal == h->normal && g.point == h->point,
+                     qPrintable(QString("trial %1: measured again %2 m closing at %3 m/s, fresh %4 m at %5 m/s")
+                                    .arg(trials).arg(g.gap).arg(g.closing).arg(h->gap).arg(h->closing)));
+        }
+        kept += int(gaps.size());
+        left += int(all.size() - gaps.size());
+    }
+    qInfo("%d trials: %d gaps kept, %d left out", trials, kept, left);
+    QVERIFY2(kept > 100 && left > 100, "both kinds are tried");
 }
 
 void TestTimeOfImpact::restingPairHidesNoOtherContact() {

@@ -260,4 +260,36 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
     if (ballMoving) offerWalls(n);
 }
 
+void remeasureBodyGaps(const WorldModel& model, const WorldState& state, double horizon, std::vector<BodyGap>& gaps,
+                       BodyGapScratch& scratch) {
+    const std::size_t n = state.robots.size();
+    std::vector<MotionBound>& bounds = scratch.bounds;
+    bounds.resize(n + 1);
+    scratch.bounded.assign(n + 1, 0);
+    // Each body's bound once, however many of the gaps it is in.
+    auto boundOf = [&](const BodyRef& body) -> const MotionBound* {
+        if (body.kind == BodyKind::Wall) return nullptr;
+        const std::size_t i = body.kind == BodyKind::Robot ? std::size_t(body.index) : n;
+        if (!scratch.bounded[i]) {
+            bounds[i] = i < n ? robotMotionBound(model.robots[i], state.robots[i], state.voltages[i], model.sides[i],
+                                                 scratch.progress.get(model.robots[i], horizon))
+                              : ballMotionBound(state.ball);
+            scratch.bounded[i] = 1;
+        }
+        return &bounds[i];
+    };
+    auto pose = [&](const BodyRef& body) {
+        if (body.kind == BodyKind::Robot) return state.robots[body.index];
+        return body.kind == BodyKind::Ball ? ballPose(state.ball) : RobotState{};
+    };
+    for (BodyGap& g : gaps) {
+        const MotionBound* a = boundOf(g.a);
+        const MotionBound* b = boundOf(g.b);
+        const Separation s = separationBetween(model, g.a, pose(g.a), g.b, pose(g.b));
+        // (As findBodyGaps: a's point speed, plus b's unless b is a wall.)
+        const double pointSpeeds = b ? a->pointSpeed + b->pointSpeed : a->pointSpeed;
+        g = {g.a, g.b, s.distance, closingSpeed(s, *a, b, pointSpeeds), s.normal, s.point};
+    }
+}
+
 }  // namespace vssim

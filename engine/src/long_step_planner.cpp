@@ -516,9 +516,13 @@ std::optional<Contact> Simulation::touchingContact(const BodyGap& g) const {
     return c;
 }
 
-std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
+std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving, bool known) {
     const double dt = model_.settings.dt;
-    findBodyGaps(model_, state_, stepping_, ballMoving, static_cast<double>(remaining) * dt, gaps_, gapScratch_);
+    const double horizon = static_cast<double>(remaining) * dt;  // s
+    if (known)
+        remeasureBodyGaps(model_, state_, horizon, gaps_, gapScratch_);
+    else
+        findBodyGaps(model_, state_, stepping_, ballMoving, horizon, gaps_, gapScratch_);
     const std::size_t n = state_.robots.size();
     constrained_.resize(n + 1);  // (read for the stepping bodies only)
     for (const int i : stepping_) constrained_[i] = 0;
@@ -533,6 +537,15 @@ std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving) {
                 if (body.kind != BodyKind::Wall) constrained_[body.kind == BodyKind::Robot ? body.index : n] = 1;
         if (!(free >= static_cast<double>(steps))) steps = free >= 0.0 ? static_cast<std::int64_t>(free) : 0;
     }
+    // A gap that cannot close before the stretch ends now cannot later
+    // either (its bounds hold over all that is left of the stretch, under
+    // these voltages), unless a contact changes the bodies' velocities: it
+    // is measured no more (world.h). The ones that may close stay, in order.
+    gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
+                               [&](const BodyGap& g) {
+                                   return g.gap / (g.closing * dt) >= static_cast<double>(remaining);
+                               }),
+                gaps_.end());
     return steps;
 }
 
@@ -692,6 +705,7 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
     unsafe = false;
     std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
     bool touching = false;
+    bool gapsKnown = false;  // gaps_ holds this stretch's gaps that may close, and no contact came since
     while (done < stretch) {
         int answered = 0;  // touching pairs answered before this step (their velocities changed)
         // A step that may sub-step needs the frozen bodies' speeds now.
@@ -703,7 +717,8 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
             // Conservative advancement (time_of_impact.h): as many whole
             // steps as no gap can close in, in one step; when a gap may
             // close within the next step, that step finds the instant.
-            const std::int64_t steps = gapSafeSteps(stretch - done, !options.freeBall);
+            const std::int64_t steps = gapSafeSteps(stretch - done, !options.freeBall, gapsKnown);
+            gapsKnown = steps >= 0;
             // (Stepping bodies that can no longer touch anything before the
             // stretch ends freeze, as if they had at its start.)
             // Not in the step after a replan, in which nobody is frozen (it
@@ -721,11 +736,12 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
                 prepareStep();
                 const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
                 const ImpactStep outcome = impactStep(ballMoving, stepStart, options, report);
-                if (outcome == ImpactStep::Free) {
+                if (outcome == ImpactStep::Free) {  // (no contact: the gaps stay known)
                     ++done;
                     ++report.longSteps;
                     continue;
                 }
+                gapsKnown = false;
                 if (outcome == ImpactStep::Contact) {
                     if (!apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
                         restoreStepping(ballMoving);  // as below: again with everybody
@@ -738,6 +754,7 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
             }
             // Touching now, or a pass the search could not settle: a step on
             // the grid, after answering the touching pairs that approach.
+            gapsKnown = false;  // (a step on the grid follows)
             if (steps < 0) answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
         } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {
             // The stepping bodies, too, may be free for a while (a robot

@@ -77,6 +77,7 @@ struct BodyGapScratch {
     std::vector<std::pair<int, int>> pairs;
     ListedPairsScratch listed;  // the moving robots' broad phase
     ModeProgressCache progress;
+    std::vector<char> bounded;  // remeasureBodyGaps': per body, its entry of `bounds` is set
 };
 
 // Appends to `out` (cleared first) the gap of every pair of a moving body
@@ -86,6 +87,14 @@ struct BodyGapScratch {
 // their bodies can travel in it are left out. In a fixed order (deterministic).
 void findBodyGaps(const WorldModel& model, const WorldState& state, const std::vector<int>& movingRobots,
                   bool ballMoving, double horizon, std::vector<BodyGap>& out, BodyGapScratch& scratch);
+
+// Each of `gaps` (found by findBodyGaps for a longer horizon, in a state
+// these bodies have since reached under the same voltages, with no contact
+// on the way) measured again in `state`, with the bounds over `horizon` s:
+// the same values findBodyGaps would give those pairs. It finds no new
+// pair: the caller keeps the ones that can still close.
+void remeasureBodyGaps(const WorldModel& model, const WorldState& state, double horizon, std::vector<BodyGap>& gaps,
+                       BodyGapScratch& scratch);
 
 // The ball's centre as a pose (x, y; theta 0), for separationBetween.
 RobotState ballPose(const BallState& ball);
