@@ -65,15 +65,6 @@ RobotModel makeRobotModel(const RobotParams& p) {
     return m;
 }
 
-static double clampOne(double e, double limit) {
-    if (std::isnan(e)) return 0.0;
-    return std::clamp(e, -limit, limit);
-}
-
-Voltages clampVoltages(const RobotParams& params, const Voltages& e) {
-    return {clampOne(e.right, params.max_voltage), clampOne(e.left, params.max_voltage)};
-}
-
 Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2d& u, const Voltages& e) {
     return model.A * u + model.G * Eigen::Vector2d(e.right, e.left);
 }

@@ -333,7 +333,10 @@ void Simulation::placeBall(const BallState& ball) {
 void Simulation::applyDueCommands() {
     while (nextCommand_ < schedule_.size() && schedule_[nextCommand_].step <= state_.step) {
         const VoltageCommand& c = scene_.commands[schedule_[nextCommand_++].command];
-        drive(c.robot, c.drive());
+        if (c.wheelSpeeds)  // (drive(c.robot, c.drive()) without building the DriveCommand: a game applies thousands)
+            setWheelSpeeds(c.robot, c.speeds);
+        else
+            setVoltages(c.robot, c.voltages);
     }
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -38,7 +39,10 @@ struct RobotModel {
 RobotModel makeRobotModel(const RobotParams& params);
 
 // Voltages clamped to +-max_voltage; NaN becomes 0 V (a dead input, never a NaN state).
-Voltages clampVoltages(const RobotParams& params, const Voltages& e);
+inline Voltages clampVoltages(const RobotParams& params, const Voltages& e) {
+    auto clampOne = [limit = params.max_voltage](double v) { return std::isnan(v) ? 0.0 : std::clamp(v, -limit, limit); };
+    return {clampOne(e.right), clampOne(e.left)};
+}
 
 // u' = A u + G e, the velocity part of eq. 8.
 Eigen::Vector2d velocityDerivative(const RobotModel& model, const Eigen::Vector2d& u, const Voltages& e);
