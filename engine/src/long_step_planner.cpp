@@ -537,13 +537,14 @@ std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving, b
                 if (body.kind != BodyKind::Wall) constrained_[body.kind == BodyKind::Robot ? body.index : n] = 1;
         if (!(free >= static_cast<double>(steps))) steps = free >= 0.0 ? static_cast<std::int64_t>(free) : 0;
     }
-    // A gap that cannot close before the stretch ends now cannot later
-    // either (its bounds hold over all that is left of the stretch, under
-    // these voltages), unless a contact changes the bodies' velocities: it
-    // is measured no more (world.h). The ones that may close stay, in order.
+    // A gap that cannot come within kContactSkin (where a pair counts as
+    // touching, above) before the stretch ends now cannot later either (its
+    // bounds hold over all that is left of the stretch, under these
+    // voltages), unless a contact changes the bodies' velocities: it is
+    // measured no more (world.h). The others stay, in order.
     gaps_.erase(std::remove_if(gaps_.begin(), gaps_.end(),
                                [&](const BodyGap& g) {
-                                   return g.gap / (g.closing * dt) >= static_cast<double>(remaining);
+                                   return (g.gap - kContactSkin) / (g.closing * dt) >= static_cast<double>(remaining);
                                }),
                 gaps_.end());
     return steps;

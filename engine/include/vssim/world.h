@@ -315,13 +315,14 @@ private:
     // close; -1 when a gap is within kContactSkin now (bodies touching).
     // Also marks in constrained_ the bodies with a gap that may close within
     // `remaining` steps (not set when returning -1), and keeps in gaps_ only
-    // those gaps. With `known` (the last call's gaps_, in this stretch, with
-    // no contact since and only steps taken without one) only those are
-    // measured again: a pair out of reach, or whose gap could not close
-    // before the stretch's end, when last measured, cannot since (the bounds
-    // were over the rest of the stretch). The steps are those of measuring
-    // every pair again, except where a fresh bound on a pair left out would
-    // be looser than the one that let it go.
+    // the gaps that may come within kContactSkin before the stretch ends.
+    // With `known` (the last call's gaps_, in this stretch, with no contact
+    // since and only steps taken without one) only those are measured
+    // again: a pair out of reach, or whose gap could not come within the
+    // skin before the stretch's end, when last measured, cannot since (the
+    // bounds were over the rest of the stretch). The steps are those of
+    // measuring every pair again, except where a fresh bound on a pair left
+    // out would be looser than the one that let it go.
     std::int64_t gapSafeSteps(std::int64_t remaining, bool ballMoving, bool known);
     // One step of dt for the stepping bodies in which a gap of gaps_ may
     // close: Free (none did: the step is taken), Contact (the step was taken
