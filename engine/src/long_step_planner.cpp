@@ -706,7 +706,7 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
     unsafe = false;
     std::int64_t done = 0, nextTry = 0, wait = kFirstRetryWait;
     bool touching = false;
-    bool gapsKnown = false;  // gaps_ holds this stretch's gaps that may close, and no contact came since
+    bool gapsKnown = false;  // gaps_ holds this stretch's gaps that may come within the skin, and no contact came since
     while (done < stretch) {
         int answered = 0;  // touching pairs answered before this step (their velocities changed)
         // A step that may sub-step needs the frozen bodies' speeds now.

@@ -92,7 +92,7 @@ void findBodyGaps(const WorldModel& model, const WorldState& state, const std::v
 // these bodies have since reached under the same voltages, with no contact
 // on the way) measured again in `state`, with the bounds over `horizon` s:
 // the same values findBodyGaps would give those pairs. It finds no new
-// pair: the caller keeps the ones that can still close.
+// pair: the caller keeps the ones that may still come within kContactSkin.
 void remeasureBodyGaps(const WorldModel& model, const WorldState& state, double horizon, std::vector<BodyGap>& gaps,
                        BodyGapScratch& scratch);
 
