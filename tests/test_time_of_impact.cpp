@@ -64,6 +64,17 @@ double cutDifference(const Scene& s, std::int64_t cut, std::int64_t end) {
     return test::maxPositionDifference(parts.state(), whole.state());
 }
 
+// The farthest (m) that runs of a scene to step 60 cut after step 1, 2 or 7
+// end from the run in one call, and that cut.
+std::pair<double, std::int64_t> worstEarlyCut(const Scene& s) {
+    std::pair<double, std::int64_t> worst{0.0, 0};
+    for (const std::int64_t cut : {1, 2, 7}) {
+        const double apart = cutDifference(s, cut, 60);
+        if (!(apart <= worst.first)) worst = {apart, cut};  // (NaN is kept: it fails the check)
+    }
+    return worst;
+}
+
 // Whether any two bodies of a state overlap or a body crosses a wall (the
 // engine's own contact tests, which the planner's searches do not use).
 bool anyContact(const WorldModel& model, const WorldState& state) {
@@ -714,13 +725,11 @@ void TestTimeOfImpact::restingPairHidesNoOtherContact() {
                                 .arg(r.firstImpact)
                                 .arg(alone)));
         // The same run cut at each of the first steps: the same end.
-        for (const std::int64_t cut : {1, 2, 7}) {
-            const double apart = cutDifference(s, cut, 60);
-            QVERIFY2(apart < 1e-9, qPrintable(QString("ball %1, cut after step %2: %3 m from the run in one call")
-                                                  .arg(where)
-                                                  .arg(cut)
-                                                  .arg(apart)));
-        }
+        const auto [apart, cut] = worstEarlyCut(s);
+        QVERIFY2(apart < 1e-9, qPrintable(QString("ball %1, cut after step %2: %3 m from the run in one call")
+                                              .arg(where)
+                                              .arg(cut)
+                                              .arg(apart)));
     }
     QVERIFY(alone > 0.0 && alone < 0.001);  // within the first step, not at its end
 }
@@ -796,13 +805,11 @@ void TestTimeOfImpact::grazingPassHidesNoOtherContact() {
                                 .arg(rep.firstImpact)
                                 .arg(alone)));
         // The same run cut at each of the first steps: the same end.
-        for (const std::int64_t cut : {1, 2, 7}) {
-            const double apart = cutDifference(s, cut, 60);
-            QVERIFY2(apart < 1e-9, qPrintable(QString("robot %1, cut after step %2: %3 m from the run in one call")
-                                                  .arg(where)
-                                                  .arg(cut)
-                                                  .arg(apart)));
-        }
+        const auto [apart, cut] = worstEarlyCut(s);
+        QVERIFY2(apart < 1e-9, qPrintable(QString("robot %1, cut after step %2: %3 m from the run in one call")
+                                              .arg(where)
+                                              .arg(cut)
+                                              .arg(apart)));
     }
     QVERIFY(alone > 0.85e-3 && alone < 0.95e-3);  // the ball's own instant, not the step's end
 }
