@@ -70,7 +70,8 @@ std::pair<double, std::int64_t> worstEarlyCut(const Scene& s) {
     std::pair<double, std::int64_t> worst{0.0, 0};
     for (const std::int64_t cut : {1, 2, 7}) {
         const double apart = cutDifference(s, cut, 60);
-        if (!(apart <= worst.first)) worst = {apart, cut};  // (NaN is kept: it fails the check)
+        if (std::isnan(apart)) return {apart, cut};  // (it fails the check; no later cut may replace it)
+        if (apart > worst.first) worst = {apart, cut};
     }
     return worst;
 }
