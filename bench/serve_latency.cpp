@@ -1,10 +1,13 @@
 // Benchmark 5: `vssim serve` in real time, seen from its clients, as a
 // team's software would use it: a `vssim serve` process with the 3-vs-3
 // kick-off, a team client sending new voltages to its three robots every
-// 7 ms (not in step with the camera), and observers. Two scenarios of a
-// minute each (--quick: 3 s): "typical", one observer taking PNG patches,
-// and "six subscriptions", one observer per image subscription (patches and
-// full frames; raw, PNG, JPEG 90), all encoded every frame. It records when
+// 7 ms (not in step with the camera), and observers. Three scenarios of a
+// minute each (--quick: 3 s): "typical", one observer taking PNG patches;
+// "six subscriptions", one observer per image subscription (patches and
+// full frames; raw, PNG, JPEG 90), all encoded every frame; "slow reader",
+// one observer taking full PNG frames that stops reading for 1.5 s (a slow
+// vision step), reads for 60 ms, and again (the server must drop its old
+// frames and hand it the present: the image age at hand-over). It records when
 // each frame arrives; at the end it asks the server for its own measurements
 // (CONTROL stats): command latency, image period, render and encode time,
 // bytes per frame.
@@ -33,7 +36,23 @@ struct Observer {
     SampleStats periodMs;
     std::int64_t lastNs = -1;
     std::int64_t frames = 0, lastFrame = -1, gaps = 0;
+    bool slow = false;  // reads 60 ms of every 1,560 ms
+    bool reading = true;
 };
+
+enum class Observers { Typical, AllSubscriptions, SlowReader };
+
+// The kick-off served with the yellow team driven over TCP (the bench's
+// team client), the blue one idle and no referee: the engine, the camera and
+// the server, nothing of the game.
+QStringList serveArguments(const Options& options, const QStringList& extra) {
+    return QStringList{"serve",  QString::fromStdString(options.sceneFile),
+                       "--port", "0",
+                       "--yellow", "tcp",
+                       "--blue", "idle",
+                       "--referee", "off"} +
+           extra;
+}
 
 void row(std::ostream& out, const char* scenario, const QString& source, const QString& metric,
          const QString& subscription, const QJsonObject& s) {
@@ -43,13 +62,12 @@ void row(std::ostream& out, const char* scenario, const QString& source, const Q
         << s["stddev"].toDouble() << '\n';
 }
 
-void runScenario(const Options& options, const char* scenario, bool allSubscriptions, std::ostream& out,
+void runScenario(const Options& options, const char* scenario, Observers which, std::ostream& out,
                  std::ostream& log) {
     const double duration = options.quick ? 3.0 : 60.0;  // wall seconds
     QProcess server;
     server.setProcessChannelMode(QProcess::ForwardedErrorChannel);
-    server.start(QStringLiteral(VSSIM_BINARY), {"serve", QString::fromStdString(options.sceneFile), "--port", "0",
-                                                "--quit-after", QString::number(duration + 30)});
+    server.start(QStringLiteral(VSSIM_BINARY), serveArguments(options, {"--quit-after", QString::number(duration + 30)}));
     if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000))
         throw std::runtime_error("vssim serve did not start");
     const QString line = QString::fromUtf8(server.readLine()).trimmed();  // "listening on 127.0.0.1:PORT"
@@ -59,8 +77,14 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
     std::vector<Observer> observers;
     for (const char* images : {"patches", "full"}) {
         for (const char* encoding : {"raw", "png", "jpeg"}) {
-            if (!allSubscriptions && !(QString(images) == "patches" && QString(encoding) == "png")) continue;
+            const bool wanted = which == Observers::AllSubscriptions ||
+                                (which == Observers::Typical && QString(images) == "patches" &&
+                                 QString(encoding) == "png") ||
+                                (which == Observers::SlowReader && QString(images) == "full" &&
+                                 QString(encoding) == "png");
+            if (!wanted) continue;
             Observer o;
+            o.slow = which == Observers::SlowReader;
             o.name = QStringLiteral("%1/%2%3").arg(images, encoding, QString(encoding) == "jpeg" ? "90" : "");
             o.client = std::make_unique<ProtocolClient>();
             if (!o.client->connectTo(port) || !o.client->hello(QJsonObject{{"protocol", 1},
@@ -69,6 +93,10 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
                                                                            {"encoding", encoding},
                                                                            {"jpeg_quality", 90}}))
                 throw std::runtime_error("observer " + o.name.toStdString() + " could not connect");
+            // A slow reader's receive buffer is fixed at 64 kB: Linux would
+            // otherwise grow it with use until it held a whole pause's frames,
+            // and the server would never have to drop any.
+            if (o.slow) o.client->socket().setSocketOption(QAbstractSocket::ReceiveBufferSizeSocketOption, 64 << 10);
             observers.push_back(std::move(o));
         }
     }
@@ -96,6 +124,14 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
         }
         QCoreApplication::processEvents(QEventLoop::AllEvents, 2);
         for (Observer& o : observers) {
+            if (o.slow) {
+                const bool reading = wall.elapsed() % 1560 >= 1500;
+                if (reading != o.reading) {
+                    o.client->setReading(reading);
+                    o.reading = reading;
+                    o.lastNs = -1;  // the pause is not a frame period
+                }
+            }
             while (auto r = o.client->poll()) {
                 if (r->message.type != static_cast<std::uint8_t>(protocol::MessageType::Frame)) continue;
                 protocol::FrameHeader header;
@@ -122,6 +158,7 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
     row(out, scenario, "server", "command_latency_ms", "", stats["command_latency_ms"].toObject());
     row(out, scenario, "server", "command_delay_ms", "", stats["command_delay_ms"].toObject());
     row(out, scenario, "server", "frame_period_ms", "", stats["frame_period_ms"].toObject());
+    row(out, scenario, "server", "image_age_ms", "", stats["image_age_ms"].toObject());
     row(out, scenario, "server", "render_ms", "", stats["render_ms"].toObject());
     row(out, scenario, "server", "patch_area_percent", "", stats["patch_area_percent"].toObject());
     const QJsonObject encode = stats["encode_ms"].toObject(), bytes = stats["frame_bytes"].toObject();
@@ -132,7 +169,8 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
     for (const Observer& o : observers)
         row(out, scenario, "client", "frame_period_ms", o.name, toJson(o.periodMs.summary()));
 
-    const QJsonObject latency = stats["command_latency_ms"].toObject(), period = stats["frame_period_ms"].toObject();
+    const QJsonObject latency = stats["command_latency_ms"].toObject(), period = stats["frame_period_ms"].toObject(),
+                      age = stats["image_age_ms"].toObject();
     log << "  " << scenario << ": " << duration << " s, " << commands << " commands, late "
         << stats["late_commands"].toInt() << "\n"
         << "  command latency (arrival -> applied): median " << latency["median"].toDouble() << " ms, p99 "
@@ -140,7 +178,9 @@ void runScenario(const Options& options, const char* scenario, bool allSubscript
         << "  image period at the engine: median " << period["median"].toDouble() << " ms, stddev "
         << period["stddev"].toDouble() << " ms, max " << period["max"].toDouble() << " ms\n"
         << "  render median " << stats["render_ms"].toObject()["median"].toDouble() << " ms; patches cover "
-        << stats["patch_area_percent"].toObject()["median"].toDouble() << " % of the image (median)\n";
+        << stats["patch_area_percent"].toObject()["median"].toDouble() << " % of the image (median)\n"
+        << "  image age, camera instant -> handed to a socket: median " << age["median"].toDouble() << " ms, p99 "
+        << age["p99"].toDouble() << " ms, max " << age["max"].toDouble() << " ms\n";
     for (const Observer& o : observers) {
         const SampleSummary s = o.periodMs.summary();
         const QJsonObject b = bytes[o.name].toObject(), e = encode[o.name].toObject();
@@ -160,8 +200,8 @@ void runLockstep(const Options& options, const char* images, std::ostream& out, 
     const double duration = options.quick ? 2.0 : 20.0;  // wall seconds
     QProcess server;
     server.setProcessChannelMode(QProcess::ForwardedErrorChannel);
-    server.start(QStringLiteral(VSSIM_BINARY), {"serve", QString::fromStdString(options.sceneFile), "--lockstep",
-                                                "--port", "0", "--quit-after", QString::number(duration + 30)});
+    server.start(QStringLiteral(VSSIM_BINARY),
+                 serveArguments(options, {"--lockstep", "--quit-after", QString::number(duration + 30)}));
     if (!server.waitForStarted(5000) || !server.waitForReadyRead(10000))
         throw std::runtime_error("vssim serve did not start");
     const quint16 port = static_cast<quint16>(QString::fromUtf8(server.readLine()).trimmed().section(':', -1).toUInt());
@@ -211,8 +251,9 @@ void runLockstep(const Options& options, const char* images, std::ostream& out, 
 
 int serveLatency(const Options& options, std::ostream& out, std::ostream& log) {
     out << "scenario,source,metric,subscription,count,median,p99,max,mean,stddev\n" << std::setprecision(6);
-    runScenario(options, "typical", false, out, log);
-    runScenario(options, "six subscriptions", true, out, log);
+    runScenario(options, "typical", Observers::Typical, out, log);
+    runScenario(options, "six subscriptions", Observers::AllSubscriptions, out, log);
+    runScenario(options, "slow reader", Observers::SlowReader, out, log);
     runLockstep(options, "patches", out, log);
     runLockstep(options, "none", out, log);
     return 0;
