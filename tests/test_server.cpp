@@ -679,6 +679,29 @@ private slots:
         QVERIFY(stats["late_commands"].toInt() < 20);
     }
 
+    void aRawFullFrameReaderKeepsUp() {
+        // Real time: a reader that keeps up gets every raw full frame (922 kB,
+        // 31 MB/s) over loopback. The small send buffer kept for slow readers
+        // must still hold two of loopback's 64 KiB segments: with room for one,
+        // each waited for the reader's delayed ACK (40 ms), two frames a second.
+        Served served(kickoff(), RunMode::Realtime);
+        auto reader = join(served.port(), helloJson("observer", "full", "raw"));
+        QVERIFY(reader);
+        int frames = 0;
+        QElapsedTimer wall;
+        wall.start();
+        while (wall.elapsed() < 3000) {
+            QTest::qWait(5);
+            while (auto r = reader->poll())
+                if (r->message.type == std::uint8_t(MessageType::Frame) &&
+                    decode(r->message).header.kind == protocol::FrameKind::Full)
+                    ++frames;
+        }
+        // 100 frame periods: a quarter of them even on a loaded machine (the
+        // fault gave 5).
+        QVERIFY2(frames >= 25, qPrintable(QString("%1 full frames in 3 s").arg(frames)));
+    }
+
     void aSlowReaderGetsThePresent() {
         // Real time: a client that stops reading for a while (a slow vision
         // step) has at most about one frame waiting for it in the server,

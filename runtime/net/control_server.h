@@ -56,7 +56,9 @@ struct ServerSettings {
     quint16 port = protocol::kDefaultPort;   // 0: any free port
     int helloTimeoutMs = 5000;               // a client must say HELLO within this
     qint64 lockstepBacklogBytes = 1 << 20;   // lockstep: unsent bytes above which new frames wait (newest kept)
-    int realtimeSendBufferBytes = 16 << 10;  // real time: the kernel's send buffer for subscribers (SO_SNDBUF)
+    // Real time: the kernel's send buffer for subscribers (SO_SNDBUF; Linux doubles it). It must hold two of
+    // loopback's 64 KiB segments: with room for one, each waits for the reader's delayed ACK (40 ms), 1.6 MB/s.
+    int realtimeSendBufferBytes = 64 << 10;
     qint64 maxUnsentBytes = 8 << 20;         // one client's unsent bytes above which it is disconnected
     qint64 maxTotalUnsentBytes = 64 << 20;   // all clients' together: above, the one with the most is disconnected
     int maxClients = 64;
