@@ -232,17 +232,19 @@ void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
     // the contact's instant by up to a microsecond (seen: 2.5e-9 m after 0.3 s).
     //
     // Where a call ends changes how the frozen bodies' motion is cut into
-    // exact steps, so the states differ by rounding, and some of these
-    // crowds are chaotic at that level: a robot moved by 1e-15 m at the start
-    // (seed 6 at their instant: robot 0) ends 7.7 mm away after 0.3 s,
-    // because a contact is then answered at its instant instead of as a
-    // resting one. Such a scene cannot tell a dependence on the cuts from
-    // chaos. So each crowd is first nudged by a few units of rounding (each
-    // robot in turn, 1e-15 m along x), and one whose outcome moves by more
-    // than the tolerance is replaced by the next seed; 12 of the first 18
-    // seeds must be steady in each mode, and at least one crowd of each mode
-    // must not be (else the nudge would be shown nothing).
-    int impacts = 0;
+    // exact steps, so the states differ by rounding, and a crowd may be
+    // chaotic at that level: a robot moved by 1e-15 m at the start then ends
+    // beyond the tolerance (on the grid, one of these 18 crowds). Such a scene
+    // cannot tell a dependence on the cuts from chaos. So each crowd is first
+    // nudged by a few units of rounding (each robot in turn, 1e-15 m along
+    // x), and one whose outcome moves by more than the tolerance is left out;
+    // all 18 seeds are tried, at least 12 must be steady in each mode, and
+    // at least one crowd must not be (else the nudge would be shown nothing).
+    // Seed 15 in chunks of 4 at their instant was 12 mm off before pairs that
+    // a grid contact left touching (gap 0 or a few 1e-17 m, by rounding) were
+    // no longer answered at the next step's start (kRoundingGap); the same
+    // flip made seed 6 look chaotic.
+    int impacts = 0, chaotic = 0;
     auto crowdScene = [](std::uint32_t seed, bool atImpact) {
         Scene scene = crowd(100 + seed, 8, 0.3);
         addRandomCommands(scene, seed, 0.3, 0.03);
@@ -255,8 +257,9 @@ void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
     };
     for (const bool atImpact : {false, true}) {
         const double tolerance = atImpact ? 1e-7 : 1e-9;  // m
-        int steady = 0, chaotic = 0;
-        for (std::uint32_t seed = 1; steady < 12 && seed <= 18; ++seed) {
+        int steady = 0;
+        const int chaoticBefore = chaotic;
+        for (std::uint32_t seed = 1; seed <= 18; ++seed) {
             const Scene scene = crowdScene(seed, atImpact);
             // The reference: step() on the grid, one call at their instant.
             const auto run = [atImpact, &impacts](const Scene& s) {
@@ -292,10 +295,11 @@ void TestSkipping::resultsDoNotDependOnHowTheRunIsCut() {
                                                           .arg(diff)));
             }
         }
-        qInfo("%s: %d steady crowds, %d chaotic at the rounding level", atImpact ? "at their instant" : "on the grid", steady, chaotic);
-        QCOMPARE(steady, 12);
-        QVERIFY2(chaotic >= 1, "no crowd chaotic at the rounding level: the nudge is shown nothing");
+        qInfo("%s: %d steady crowds, %d chaotic at the rounding level", atImpact ? "at their instant" : "on the grid", steady,
+              chaotic - chaoticBefore);
+        QVERIFY2(steady >= 12, qPrintable(QString("%1 steady crowds of 18").arg(steady)));
     }
+    QVERIFY2(chaotic >= 1, "no crowd chaotic at the rounding level: the nudge is shown nothing");
     QVERIFY(impacts > 10);
 }
 

@@ -28,6 +28,16 @@ constexpr std::int64_t kLongestRetryWait = 16;
 // interpolation's error, O(h^5) relative; this slack covers it many times over.
 constexpr double kPathSpeedSlack = 1.0 + 1e-6;
 
+// Bodies closer than this at a step's start are where a contact on the grid
+// left them, separated to touching give or take rounding: whether they
+// count as apart (a gap of a few 1e-17 m) or as overlapping (exactly 0), and
+// the normal between their nearest points, are then rounding, which differs
+// with where a call to advanceTo ended. So they are not answered as
+// touching at the step's start; the step's contact passes find them at its
+// end, as on the grid. (A contact that a search finds is answered at its
+// instant, in impactStep, however small its gap.)
+constexpr double kRoundingGap = 1e-10;  // m
+
 // A body's pose among the given robots and ball (the ball's centre in x, y;
 // a wall's pose is not used).
 RobotState poseAmong(const BodyRef& body, const std::vector<RobotState>& robots, const BallState& ball) {
@@ -685,7 +695,7 @@ int Simulation::answerTouchingGaps(double now, AdvanceReport& report) {
     int answered = 0;
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
-        if (g.gap > kContactSkin) continue;
+        if (g.gap > kContactSkin || g.gap < kRoundingGap) continue;
         const std::optional<Contact> c = touchingContact(g);
         if (!c || !respondToContact(*c, bodies, model_.settings.collision_model, model_.settings.restitution))
             continue;
