@@ -28,8 +28,8 @@ constexpr std::int64_t kLongestRetryWait = 16;
 // interpolation's error, O(h^5) relative; this slack covers it many times over.
 constexpr double kPathSpeedSlack = 1.0 + 1e-6;
 
-// Bodies closer than this at a step's start are where a contact on the grid
-// left them, separated to touching give or take rounding: whether they
+// Bodies closer than this at a step's start are usually where a contact on
+// the grid left them, separated to touching give or take rounding: whether they
 // count as apart (a gap of a few 1e-17 m) or as overlapping (exactly 0), and
 // the normal between their nearest points, are then rounding, which differs
 // with where a call to advanceTo ended. So they are not answered as

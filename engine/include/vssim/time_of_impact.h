@@ -36,7 +36,9 @@ constexpr double kTouchDistance = 1e-6;
 // Bodies within this of each other at the start of a step are touching: a
 // contact just answered, or a robot pushing on a wall. The step is an
 // ordinary one (its contacts found at its end); a pair that approaches is
-// answered first, at that instant. Whether a step is searched depends on
+// answered first, at that instant, unless it is closer than 1e-10 m
+// (long_step_planner.cpp, kRoundingGap: then only at the step's end).
+// Whether a step is searched depends on
 // the state alone, so the results do not depend on how a run is cut into
 // calls. m.
 constexpr double kContactSkin = 2.0 * kTouchDistance;

@@ -332,8 +332,10 @@ private:
     // no other contact was found within the step).
     // After Contact, restoreStepping() puts the step's start back.
     enum class ImpactStep { Free, Contact, Unresolved };
-    // The pairs of gaps_ within kContactSkin that approach are answered now
-    // (`now`: simulated time, s, for the report); returns how many.
+    // The pairs of gaps_ within kContactSkin that approach are answered now,
+    // except those closer than kRoundingGap (met at the step's end instead;
+    // long_step_planner.cpp) (`now`: simulated time, s, for the report);
+    // returns how many.
     int answerTouchingGaps(double now, AdvanceReport& report);
     // A body's pose in state_ (the ball's centre in x, y; a wall's is not used).
     RobotState poseNow(const BodyRef& body) const;
