@@ -3,6 +3,7 @@
 // count; independent of one another; reset; bad arguments refused.
 #include <QtTest>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -208,6 +209,7 @@ void TestBatchWorld::poolThreadIndices() {
     std::atomic<bool> clash{false}, outOfRange{false};
     std::atomic<int> callerRan{0};
     const std::thread::id caller = std::this_thread::get_id();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     pool.parallelFor(3000, [&](std::size_t) {
         const int t = ThreadPool::threadIndex();
         if (t < 0 || t >= 3) {
@@ -217,6 +219,13 @@ void TestBatchWorld::poolThreadIndices() {
         if (inUse[t].fetch_add(1) != 0) clash = true;
         if ((t == 0) != (std::this_thread::get_id() == caller)) clash = true;
         if (t == 0) ++callerRan;
+        // The workers wait for the caller's first index (the indices are
+        // taken as they come, so on a loaded machine the workers could
+        // otherwise take them all before the caller starts; the 10 s, for
+        // the whole loop, only guard against a caller that never takes
+        // part, which then fails below).
+        while (t != 0 && callerRan.load() == 0 && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::yield();
         volatile double x = 0;
         for (int k = 0; k < 200; ++k) x = x + k;
         inUse[t].fetch_sub(1);
