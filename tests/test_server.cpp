@@ -710,7 +710,7 @@ private slots:
         // (How old the frames it is handed are, in milliseconds, is a
         // figure of the serve benchmark's "slow reader", not a test.)
         Served served(kickoff(), RunMode::Realtime);
-        // Full PNG images (about 15 kB each): the kernel's socket buffers hold
+        // Full PNG images (about 18 kB each): the kernel's socket buffers hold
         // a few hundred kB, so after 50 frame periods the server has to choose.
         auto slow = join(served.port(), helloJson("observer", "full", "png"));
         QVERIFY(slow);
