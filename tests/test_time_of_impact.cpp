@@ -671,21 +671,25 @@ void TestTimeOfImpact::aPairLeftOutStaysOutOfTheSkin() {
     b.x = wall - half - uB(0) * 57.5 * dt, b.y = 0.0, b.v = uB(0), b.omega = uB(1);
     Scene s = boxScene({a, b}, {-0.3, 0.3, 0.0, 0.0}, 1.0);
     s.commands = {{0.0, 0, slow}, {0.0, 1, fast}};
-    // (Robot A only: where B's contact is answered, at its instant or on
-    // the grid, still depends on whether the step before it sees A
-    // touching, which a cut at step 56 changes too; the closing
-    // note records it.)
+    // Both robots, and a cut at step 56 too: there the second call's
+    // stretch of 4 steps puts A and B in groups of their own; A must still
+    // stop at step 57 (it could not close in 4 steps, but comes within the
+    // skin), and B's contact must be searched in that step although A
+    // touches in it (in one call they share the step).
     Simulation whole(s);
     whole.advanceTo(60);
     QVERIFY2(whole.state().robots[0].v < 0.0, "A's touching pair was answered: it bounced off the wall");
-    for (const std::int64_t cut : {57, 58}) {
+    for (const std::int64_t cut : {56, 57, 58}) {
         Simulation parts(s);
         parts.advanceTo(cut);
         parts.advanceTo(60);
-        const RobotState &one = whole.state().robots[0], &two = parts.state().robots[0];
-        QVERIFY2(std::hypot(one.x - two.x, one.y - two.y) < 1e-9 && std::abs(one.v - two.v) < 1e-9,
-                 qPrintable(QString("cut after step %1: A at %2 m, %3 m/s; in one call at %4 m, %5 m/s")
-                                .arg(cut).arg(two.x, 0, 'g', 12).arg(two.v).arg(one.x, 0, 'g', 12).arg(one.v)));
+        for (const int body : {0, 1}) {
+            const RobotState &one = whole.state().robots[body], &two = parts.state().robots[body];
+            QVERIFY2(std::hypot(one.x - two.x, one.y - two.y) < 1e-9 && std::abs(one.v - two.v) < 1e-9,
+                     qPrintable(QString("cut after step %1: %6 at %2 m, %3 m/s; in one call at %4 m, %5 m/s")
+                                    .arg(cut).arg(two.x, 0, 'g', 12).arg(two.v).arg(one.x, 0, 'g', 12).arg(one.v)
+                                    .arg(body == 0 ? "A" : "B")));
+        }
     }
 }
 

@@ -542,10 +542,17 @@ std::int64_t Simulation::gapSafeSteps(std::int64_t remaining, bool ballMoving, b
         if (!(g.gap > kContactSkin)) return -1;  // touching now (or NaN)
         // Conservative advancement on the grid: no contact within gap / closing.
         const double free = g.gap / (g.closing * dt);  // steps; +inf when nothing closes
-        if (!(free >= static_cast<double>(remaining)))
+        // Steps until the pair may be within kContactSkin (> 0 here): a body
+        // with such a gap before the stretch ends stays stepping (frozen, it
+        // would not be looked at where a call cut there looks afresh)...
+        const double untilSkin = (g.gap - kContactSkin) / (g.closing * dt);
+        if (!(untilSkin >= static_cast<double>(remaining)))
             for (const BodyRef& body : {g.a, g.b})
                 if (body.kind != BodyKind::Wall) constrained_[body.kind == BodyKind::Robot ? body.index : n] = 1;
         if (!(free >= static_cast<double>(steps))) steps = free >= 0.0 ? static_cast<std::int64_t>(free) : 0;
+        // ...and the long step ends at the first step start at which it may
+        // be touching, which is looked at as one that begins a call would be.
+        if (untilSkin < static_cast<double>(steps)) steps = static_cast<std::int64_t>(std::ceil(untilSkin));
     }
     // A gap that cannot come within kContactSkin (where a pair counts as
     // touching, above) before the stretch ends now cannot later either (its
@@ -597,7 +604,12 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     bool touched = false;
     bool restingMeet = false;  // a resting pair meets by the step's end: answered there
     bool unsettled = false;    // a grazing pass the search could not settle: answered at the step's end
+    bool touchingPair = false; // a pair touching at the step's start: met at its end, as on the grid
     for (BodyGap& g : gaps_) {
+        if (!(g.gap > kContactSkin)) {
+            touchingPair = true;
+            continue;
+        }
         const bool wall = g.b.kind == BodyKind::Wall;
         const MotionBound boundA = boundWithinStep(g.a), boundB = wall ? MotionBound{} : boundWithinStep(g.b);
         g.closing = boundA.pointSpeed + boundB.pointSpeed;  // (read again below, once a contact is found)
@@ -662,7 +674,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
         }
     }
     if (!touched) {
-        if (!restingMeet && !unsettled) return ImpactStep::Free;
+        if (!restingMeet && !unsettled && !touchingPair) return ImpactStep::Free;
         // Only resting or unsettled pairs may meet: an ordinary step, its contacts found at its end.
         restoreStepping(ballMoving);
         return ImpactStep::Unresolved;
@@ -674,7 +686,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     if (first > 0.0) advanceListed(first, stepping_, ballMoving);
     Bodies bodies{&state_.robots, &model_.robots, &state_.ball, &model_.ball};
     for (const BodyGap& g : gaps_) {
-        if (g.gap > g.closing * dt) continue;
+        if (g.gap > g.closing * dt || !(g.gap > kContactSkin)) continue;  // (touching: met at the step's end)
         // (The exact state is within the paths' error of the searched one.)
         const std::optional<Contact> c = touchingContact(g);
         if (!c) continue;
@@ -766,7 +778,35 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
             // Touching now, or a pass the search could not settle: a step on
             // the grid, after answering the touching pairs that approach.
             gapsKnown = false;  // (a step on the grid follows)
-            if (steps < 0) answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
+            if (steps < 0) {
+                answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
+                // The touching pairs meet at the step's end, but the other
+                // pairs are searched as in a step without them: whether a
+                // contact is answered at its instant must not depend on which
+                // bodies share the step, which a cut changes (groups,
+                // freezes). After an answer the gaps are measured again over
+                // this step alone: gapSafeSteps' predate the new velocities,
+                // and which pairs they hold depends on how far the stretch
+                // reaches. (Without one they hold every pair a look over this
+                // step would, closing no slower; impactStep bounds each
+                // within the step itself and skips one that cannot close.)
+                if (answered > 0) findBodyGaps(model_, state_, stepping_, ballMoving, dt, gaps_, gapScratch_);
+                if (std::any_of(gaps_.begin(), gaps_.end(), [dt](const BodyGap& g) {
+                        return g.gap > kContactSkin && !(g.gap / (g.closing * dt) >= 1.0);
+                    })) {
+                    prepareStep();
+                    const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
+                    if (impactStep(ballMoving, stepStart, options, report) == ImpactStep::Contact) {
+                        if (!apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
+                            restoreStepping(ballMoving);
+                            unsafe = true;
+                            break;
+                        }
+                        ++done;
+                        continue;
+                    }
+                }
+            }
         } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {
             // The stepping bodies, too, may be free for a while (a robot
             // nearing a wall, not yet at it): a long step of a power of two

@@ -299,9 +299,10 @@ private:
     bool apartAfterContact(const FrozenStart& start, double remaining, double margin);
     // With time_of_impact, `done` steps into a stretch of `stretch`: the
     // stepping bodies that gapSafeSteps found unconstrained (no gap of
-    // theirs can close before the stretch ends) freeze now, unless they are
-    // within reach of a stepping body by the discs of frozenStillSafe (a
-    // contact among the others would then undo the step at once).
+    // theirs can come within kContactSkin before the stretch ends) freeze
+    // now, unless they are within reach of a stepping body by the discs of
+    // frozenStillSafe (a contact among the others would then undo the step
+    // at once).
     // Returns how many froze.
     int freezeUnconstrained(FrozenStart& start, std::int64_t done, std::int64_t stretch, StepOptions& options);
     // The frozen bodies catch up to `done` steps into the stretch, each from
@@ -313,9 +314,12 @@ private:
     // With time_of_impact: how many whole steps (<= remaining) the stepping
     // bodies can take before any of their gaps (gaps_, found here) could
     // close; -1 when a gap is within kContactSkin now (bodies touching).
-    // Also marks in constrained_ the bodies with a gap that may close within
-    // `remaining` steps (not set when returning -1), and keeps in gaps_ only
-    // the gaps that may come within kContactSkin before the stretch ends.
+    // The steps end at the first step start at which a gap may be within
+    // kContactSkin (touching: answered there, as in a call cut there).
+    // Also marks in constrained_ the bodies with a gap that may come within
+    // kContactSkin in `remaining` steps (not set when returning -1), and
+    // keeps in gaps_ only the gaps that may come within kContactSkin before
+    // the stretch ends.
     // With `known` (the last call's gaps_, in this stretch, with no contact
     // since and only steps taken without one) only those are measured
     // again: a pair out of reach, or whose gap could not come within the
