@@ -69,6 +69,44 @@ RobotParams stiffParams() {
     return scene->robots[0].params;
 }
 
+// The worst relative error of an entry of the three flows `f` against the
+// Taylor series of A t summed in long double to 40 terms (independent of
+// linear_flow.cpp's Cayley-Hamilton sums), relative to that entry.
+double worstEntryError(const LinearFlow& f, const Eigen::Matrix2d& A, double t) {
+    // sum_j (A t)^j / (j + m)! for m = 0, 1, 2, in long double.
+    long double power[2][2] = {{1, 0}, {0, 1}}, sums[3][2][2] = {};
+    long double inverseFactorial[43];
+    inverseFactorial[0] = 1;
+    for (int j = 1; j < 43; ++j) inverseFactorial[j] = inverseFactorial[j - 1] / j;
+    for (int j = 0; j <= 40; ++j) {
+        for (int m = 0; m < 3; ++m)
+            for (int r = 0; r < 2; ++r)
+                for (int c = 0; c < 2; ++c) sums[m][r][c] += power[r][c] * inverseFactorial[j + m];
+        long double next[2][2];
+        for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 2; ++c)
+                next[r][c] = (static_cast<long double>(A(r, 0)) * power[0][c] +
+                              static_cast<long double>(A(r, 1)) * power[1][c]) *
+                             static_cast<long double>(t);
+        std::memcpy(power, next, sizeof power);
+    }
+    const Eigen::Matrix2d* got[3] = {&f.Phi, &f.Psi, &f.Omega};
+    const long double scale[3] = {1.0L, static_cast<long double>(t), static_cast<long double>(t) * t};
+    double worst = 0.0;
+    for (int m = 0; m < 3; ++m)
+        for (int r = 0; r < 2; ++r)
+            for (int c = 0; c < 2; ++c) {
+                const long double want = sums[m][r][c] * scale[m];
+                if (want == 0.0L) {
+                    if ((*got[m])(r, c) != 0.0) return HUGE_VAL;  // (an entry that must be zero)
+                    continue;
+                }
+                const long double error = std::fabs(static_cast<long double>((*got[m])(r, c)) - want);
+                worst = std::max(worst, static_cast<double>(error / std::fabs(want)));
+            }
+    return worst;
+}
+
 }  // namespace
 
 class TestExactIntegrator : public QObject {
@@ -89,6 +127,7 @@ private slots:
     void positionQuadratureIsOrderTen();
     void flowExactToRoundingAtEveryScale();
     void flowOfACoupledRobotEntryByEntry();
+    void flowsAlongAStepAreEachFlow();
     void tableCacheGivesTheTablesItWouldBuild();
 };
 
@@ -431,36 +470,50 @@ void TestExactIntegrator::flowOfACoupledRobotEntryByEntry() {
         double worst = 0.0;
         for (int k = 0; k <= 70; ++k) {
             const double t = 1e-9 * std::pow(3e7, k / 70.0);  // s
-            // sum_j (A t)^j / (j + m)! for m = 0, 1, 2, in long double.
-            long double power[2][2] = {{1, 0}, {0, 1}}, sums[3][2][2] = {};
-            long double inverseFactorial[43];
-            inverseFactorial[0] = 1;
-            for (int j = 1; j < 43; ++j) inverseFactorial[j] = inverseFactorial[j - 1] / j;
-            for (int j = 0; j <= 40; ++j) {
-                for (int m = 0; m < 3; ++m)
-                    for (int r = 0; r < 2; ++r)
-                        for (int c = 0; c < 2; ++c) sums[m][r][c] += power[r][c] * inverseFactorial[j + m];
-                long double next[2][2];
-                for (int r = 0; r < 2; ++r)
-                    for (int c = 0; c < 2; ++c)
-                        next[r][c] = (static_cast<long double>(A(r, 0)) * power[0][c] +
-                                      static_cast<long double>(A(r, 1)) * power[1][c]) *
-                                     static_cast<long double>(t);
-                std::memcpy(power, next, sizeof power);
-            }
-            const LinearFlow f = linearFlow(A, t);
-            const Eigen::Matrix2d* got[3] = {&f.Phi, &f.Psi, &f.Omega};
-            const long double scale[3] = {1.0L, static_cast<long double>(t), static_cast<long double>(t) * t};
-            for (int m = 0; m < 3; ++m)
-                for (int r = 0; r < 2; ++r)
-                    for (int c = 0; c < 2; ++c) {
-                        const long double want = sums[m][r][c] * scale[m];
-                        const long double error = std::fabs(static_cast<long double>((*got[m])(r, c)) - want);
-                        worst = std::max(worst, static_cast<double>(error / std::fabs(want)));
-                    }
+            worst = std::max(worst, worstEntryError(linearFlow(A, t), A, t));
         }
         QVERIFY2(worst < 2e-15, qPrintable(QString("worst relative error of an entry: %1").arg(worst)));
     }
+}
+
+void TestExactIntegrator::flowsAlongAStepAreEachFlow() {
+    // linearFlowsAlong (one series for a panel's nodes and end) against the
+    // long-double series at each fraction of t, entry by entry, for robots
+    // with and without coupling, a stiff one, a rotation and zero, from 1 ns
+    // to 0.3 s (the longer ones scaled: then each is linearFlow's, bit for
+    // bit); a fraction of 1 gives linearFlow's bits, and so does 0 (the
+    // identity and zeros).
+    Eigen::Matrix2d coupled, rotation;
+    coupled << -15.0, 3.0, 0.5, -40.0;
+    rotation << 0.0, -3.0, 3.0, 0.0;
+    const std::array<double, 8> fractions = {0.0469100770306680, 0.2307653449471585, 0.5, 0.7692346550528415,
+                                             0.9530899229693320, 1.0, 0.0, 0.37};
+    int shared = 0, scaled = 0;
+    for (const Eigen::Matrix2d& A : {makeRobotModel(RobotParams{}).A, makeRobotModel(test::asymmetricParams()).A,
+                                     makeRobotModel(stiffParams()).A, coupled, rotation, Eigen::Matrix2d::Zero().eval()}) {
+        double worst = 0.0;
+        for (int k = 0; k <= 60; ++k) {
+            const double t = 1e-9 * std::pow(3e8, k / 60.0);  // s
+            std::array<LinearFlow, fractions.size()> flows;
+            linearFlowsAlong(A, t, fractions.data(), static_cast<int>(fractions.size()), flows.data());
+            const bool isShared = (A * t).cwiseAbs().rowwise().sum().maxCoeff() <= 0.5;
+            (isShared ? shared : scaled) += 1;
+            for (std::size_t i = 0; i < fractions.size(); ++i) {
+                const double tau = fractions[i] * t;
+                const LinearFlow one = linearFlow(A, tau);
+                QCOMPARE(flows[i].t, tau);
+                if (!isShared || fractions[i] == 1.0 || fractions[i] == 0.0) {
+                    QVERIFY2(flows[i].Phi == one.Phi && flows[i].Psi == one.Psi && flows[i].Omega == one.Omega,
+                             qPrintable(QString("t = %1 s, fraction %2: not linearFlow's bits").arg(t).arg(fractions[i])));
+                    continue;
+                }
+                worst = std::max(worst, worstEntryError(flows[i], A, tau));
+            }
+        }
+        qInfo("worst relative error of an entry, shared series: %.2g", worst);
+        QVERIFY2(worst < 2e-15, qPrintable(QString("worst relative error of an entry: %1").arg(worst)));
+    }
+    QVERIFY(shared > 100 && scaled > 50);  // both ways are tried
 }
 
 void TestExactIntegrator::tableCacheGivesTheTablesItWouldBuild() {

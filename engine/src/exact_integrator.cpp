@@ -40,9 +40,17 @@ ExactPanel makePanel(const RobotModel& model, double length, int repeat) {
     ExactPanel p;
     p.length = length;
     p.repeat = repeat;
-    p.flow = linearFlow(model.A, length);
+    // The flows from the panel's start to each node and to its end, from
+    // one shared series (a new table is built for every odd step length,
+    // such as a contact's instant: in a match, a tenth of the engine's work).
+    std::array<double, kGaussNodes + 1> fractions;
+    std::copy(kNodeOffsets.begin(), kNodeOffsets.end(), fractions.begin());
+    fractions[kGaussNodes] = 1.0;
+    std::array<LinearFlow, kGaussNodes + 1> flows;
+    linearFlowsAlong(model.A, length, fractions.data(), kGaussNodes + 1, flows.data());
+    p.flow = flows[kGaussNodes];
     for (int i = 0; i < kGaussNodes; ++i) {
-        const LinearFlow node = linearFlow(model.A, kNodeOffsets[i] * length);  // from the panel's start
+        const LinearFlow& node = flows[i];  // from the panel's start
         p.weights[i] = kNodeWeights[i] * length;
         p.speedFromV[i] = node.Phi(0, 0);
         p.speedFromW[i] = node.Phi(0, 1);

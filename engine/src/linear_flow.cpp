@@ -41,10 +41,31 @@ int taylorTermsFor(double x) {
     }
     return kTaylorTerms;  // also for NaN
 }
+
+double scaledNormOf(const Eigen::Matrix2d& A, double t) { return (A * t).cwiseAbs().rowwise().sum().maxCoeff(); }
+
+// The (p_k, q_k) of X^k = p_k I + q_k X (below) for k = 0 to `terms`.
+using PowerCoefficients = std::array<Pair, kTaylorTerms + 1>;
+void powerCoefficients(const Eigen::Matrix2d& X, int terms, PowerCoefficients& pq) {
+    const double trace = X.trace(), det = X(0, 0) * X(1, 1) - X(0, 1) * X(1, 0);
+    pq[0] = Pair{1.0, 0.0};
+    for (int k = 0; k < terms; ++k) pq[k + 1] = Pair{-det * pq[k][1], pq[k][0] + trace * pq[k][1]};
+}
+
+// The three flows of X = A tau from the series' sums, each a I + b X.
+LinearFlow flowFromSums(const Eigen::Matrix2d& X, double tau, const Pair& phi, const Pair& psi, const Pair& omega) {
+    const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
+    LinearFlow f;
+    f.t = tau;
+    f.Phi = phi[0] * I + phi[1] * X;
+    f.Psi = tau * (psi[0] * I + psi[1] * X);
+    f.Omega = (tau * tau) * (omega[0] * I + omega[1] * X);
+    return f;
+}
 }  // namespace
 
 LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
-    const double norm = (A * t).cwiseAbs().rowwise().sum().maxCoeff();
+    const double norm = scaledNormOf(A, t);
     int doublings = 0;
     if (std::isfinite(norm) && norm > kScaledNorm)
         doublings = std::min(kMaxDoublings, static_cast<int>(std::ceil(std::log2(norm / kScaledNorm))));
@@ -62,25 +83,19 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
     // fall as |X|^k / k!, so the flow stays within a few units of rounding.)
     const Eigen::Matrix2d X = A * tau;
     const int terms = taylorTermsFor(doublings == 0 ? norm : std::ldexp(norm, -doublings));
-    const double trace = X.trace(), det = X(0, 0) * X(1, 1) - X(0, 1) * X(1, 0);
     // (p_k, q_k) side by side, so that each series' two sums go as one pair
     // of doubles: each lane does its scalar sum's operations in the same
     // order, so the same bits. Entries 0 to `terms` are written before read.
-    std::array<Pair, kTaylorTerms + 1> pq;
-    pq[0] = Pair{1.0, 0.0};
-    for (int k = 0; k < terms; ++k) pq[k + 1] = Pair{-det * pq[k][1], pq[k][0] + trace * pq[k][1]};
+    PowerCoefficients pq;
+    powerCoefficients(X, terms, pq);
     Pair phi = {0.0, 0.0}, psi = {0.0, 0.0}, omega = {0.0, 0.0};  // (the I and the X sums)
     for (int k = terms; k >= 0; --k) {
         phi += pq[k] * kInverseFactorial[k];
         psi += pq[k] * kInverseFactorial[k + 1];
         omega += pq[k] * kInverseFactorial[k + 2];
     }
+    LinearFlow f = flowFromSums(X, tau, phi, psi, omega);
     const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
-    LinearFlow f;
-    f.t = tau;
-    f.Phi = phi[0] * I + phi[1] * X;
-    f.Psi = tau * (psi[0] * I + psi[1] * X);
-    f.Omega = (tau * tau) * (omega[0] * I + omega[1] * X);
     for (int d = 0; d < doublings; ++d) {
         const Eigen::Matrix2d onePlusPhi = I + f.Phi;
         f.Omega = onePlusPhi * f.Omega + f.t * f.Psi;
@@ -90,6 +105,39 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t) {
     }
     f.t = t;
     return f;
+}
+
+void linearFlowsAlong(const Eigen::Matrix2d& A, double t, const double* fractions, int count, LinearFlow* out) {
+    const double norm = scaledNormOf(A, t);
+    if (!(norm <= kScaledNorm)) {  // (also NaN: linearFlow's answer, whatever it is)
+        for (int i = 0; i < count; ++i) out[i] = linearFlow(A, fractions[i] * t);
+        return;
+    }
+    // The terms |A t| needs suffice for every fraction of it: the remainder
+    // relative to the first-order term, 2 (c x)^K / (K+1)!, falls with c.
+    const Eigen::Matrix2d X = A * t;
+    const int terms = taylorTermsFor(norm);
+    PowerCoefficients pq;
+    powerCoefficients(X, terms, pq);
+    for (int i = 0; i < count; ++i) {
+        const double c = fractions[i];
+        // (c X)^k / (k + m)! = c^k / (k + m)! (p_k I + q_k X); c^k times the
+        // factorials' reciprocals, so that c = 1 gives linearFlow's sums.
+        std::array<double, kTaylorTerms + 1> power;  // c^k
+        power[0] = 1.0;
+        for (int k = 0; k < terms; ++k) power[k + 1] = power[k] * c;
+        Pair phi = {0.0, 0.0}, psi = {0.0, 0.0}, omega = {0.0, 0.0};
+        for (int k = terms; k >= 0; --k) {
+            const Pair term = pq[k] * power[k];
+            phi += term * kInverseFactorial[k];
+            psi += term * kInverseFactorial[k + 1];
+            omega += term * kInverseFactorial[k + 2];
+        }
+        // In terms of X, not c X: Psi(c t) = c t sum (c X)^k / (k+1)!, and so on.
+        const double tau = c * t;
+        out[i] = flowFromSums(X, tau, phi, psi, omega);
+        out[i].t = tau;
+    }
 }
 
 }  // namespace vssim
