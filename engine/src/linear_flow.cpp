@@ -134,9 +134,7 @@ void linearFlowsAlong(const Eigen::Matrix2d& A, double t, const double* fraction
             omega += term * kInverseFactorial[k + 2];
         }
         // In terms of X, not c X: Psi(c t) = c t sum (c X)^k / (k+1)!, and so on.
-        const double tau = c * t;
-        out[i] = flowFromSums(X, tau, phi, psi, omega);
-        out[i].t = tau;
+        out[i] = flowFromSums(X, c * t, phi, psi, omega);
     }
 }
 
