@@ -121,6 +121,10 @@ void linearFlowsAlong(const Eigen::Matrix2d& A, double t, const double* fraction
     powerCoefficients(X, terms, pq);
     for (int i = 0; i < count; ++i) {
         const double c = fractions[i];
+        if (!(c >= 0.0 && c <= 1.0)) {  // (outside the series' reach: on its own)
+            out[i] = linearFlow(A, c * t);
+            continue;
+        }
         // (c X)^k / (k + m)! = c^k / (k + m)! (p_k I + q_k X); c^k times the
         // factorials' reciprocals, so that c = 1 gives linearFlow's sums.
         std::array<double, kTaylorTerms + 1> power;  // c^k

@@ -675,7 +675,7 @@ Simulation::ImpactStep Simulation::impactStep(bool ballMoving, double stepStart,
     }
     if (!touched) {
         if (!restingMeet && !unsettled && !touchingPair) return ImpactStep::Free;
-        // Only resting or unsettled pairs may meet: an ordinary step, its contacts found at its end.
+        // Only resting, unsettled or touching pairs may meet: an ordinary step, its contacts found at its end.
         restoreStepping(ballMoving);
         return ImpactStep::Unresolved;
     }
@@ -771,12 +771,13 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
                         unsafe = true;
                         break;
                     }
-                    ++done;  // (the next step is on the grid while the bodies touch: gapSafeSteps)
+                    ++done;  // (while the bodies touch, the next steps meet them at their ends: gapSafeSteps)
                     continue;
                 }
             }
             // Touching now, or a pass the search could not settle: a step on
-            // the grid, after answering the touching pairs that approach.
+            // the grid (unless another pair's contact is found at its
+            // instant, below), after answering the touching pairs that approach.
             gapsKnown = false;  // (a step on the grid follows)
             if (steps < 0) {
                 answered = answerTouchingGaps(static_cast<double>(state_.step + done) * dt, report);
@@ -796,7 +797,8 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
                     })) {
                     prepareStep();
                     const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
-                    if (impactStep(ballMoving, stepStart, options, report) == ImpactStep::Contact) {
+                    const ImpactStep outcome = impactStep(ballMoving, stepStart, options, report);
+                    if (outcome == ImpactStep::Contact) {
                         if (!apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
                             restoreStepping(ballMoving);
                             unsafe = true;
@@ -805,6 +807,12 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
                         ++done;
                         continue;
                     }
+                    // Free: the gaps measured again may have left out the
+                    // answered pair (parting, or too slow to close in the
+                    // step); its step was taken, but the grid's contact
+                    // passes and the check after an answer were not: back to
+                    // the step's start, and the step on the grid below.
+                    if (outcome == ImpactStep::Free) restoreStepping(ballMoving);
                 }
             }
         } else if (skip && !impacts && !touching && done >= nextTry && stretch - done >= 2) {

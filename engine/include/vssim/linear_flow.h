@@ -31,11 +31,12 @@ LinearFlow linearFlow(const Eigen::Matrix2d& A, double t);
 
 // The flows over fractions[i] * t (each in [0, 1]) for i < count, into
 // out[i]: what linearFlow(A, fractions[i] * t) gives, to rounding. Where
-// |A t| needs no scaling (below 1/2: any step of a few milliseconds) they
+// |A t| needs no scaling (at most 1/2: any step of a few milliseconds) they
 // share one series, since (c X)^k = c^k X^k: one Cayley-Hamilton recursion,
 // then only the sums, weighted by c^k, for each fraction (the quadrature
 // nodes of a panel, exact_integrator.cpp). A fraction of exactly 1 gives
-// linearFlow(A, t)'s bits. Otherwise each is linearFlow's.
+// linearFlow(A, t)'s bits. Otherwise (and for a fraction outside [0, 1],
+// or NaN) each is linearFlow's.
 void linearFlowsAlong(const Eigen::Matrix2d& A, double t, const double* fractions, int count, LinearFlow* out);
 
 }  // namespace vssim

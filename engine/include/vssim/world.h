@@ -329,11 +329,12 @@ private:
     // out would be looser than the one that let it go.
     std::int64_t gapSafeSteps(std::int64_t remaining, bool ballMoving, bool known);
     // One step of dt for the stepping bodies in which a gap of gaps_ may
-    // close: Free (none did: the step is taken), Contact (the step was taken
+    // close (pairs touching at its start are not searched: they meet at its
+    // end): Free (none did: the step is taken), Contact (the step was taken
     // with the contact answered at its instant),
     // or Unresolved (the state is as before: take an ordinary step; when
-    // only resting pairs meet, or a grazing pass could not be settled, and
-    // no other contact was found within the step).
+    // only resting or touching pairs meet, or a grazing pass could not be
+    // settled, and no other contact was found within the step).
     // After Contact, restoreStepping() puts the step's start back.
     enum class ImpactStep { Free, Contact, Unresolved };
     // The pairs of gaps_ within kContactSkin that approach are answered now,
@@ -369,7 +370,7 @@ private:
     WorldState beforeStep_;            // to undo a step that reached a frozen body
     bool forceOrdinaryStep_ = false;   // the next step (with time_of_impact: stretch) takes every body
     std::vector<BodyGap> gaps_;        // gapSafeSteps' gaps, used by impactStep
-    std::vector<char> constrained_;    // gapSafeSteps': per body, a gap of it may close before the stretch ends
+    std::vector<char> constrained_;    // gapSafeSteps': per body, a gap of it may come within kContactSkin before the stretch ends
     std::vector<char> catchUp_;        // catchUpFrozen's robots of one freezing step
     std::vector<double> stepReach_;    // freezeUnconstrained's reach + travel per stepping body, m
     std::vector<std::pair<double, int>> steppingByX_;  // freezeUnconstrained's stepping bodies: (x, body), sorted
