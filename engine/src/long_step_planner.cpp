@@ -736,6 +736,14 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
             if (!skip || start.fastest * dt <= kMaxTravelFraction * smallest) return;
             frozenSpeeds(start, done, options);
         };
+        // A contact that impactStep answered at its instant stands unless it
+        // sent a body towards a frozen one: then the step is undone (false),
+        // and the stretch is planned again with everybody.
+        const auto contactKept = [&] {
+            if (apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) return true;
+            restoreStepping(!options.freeBall);
+            return false;
+        };
         if (impacts) {
             // Conservative advancement (time_of_impact.h): as many whole
             // steps as no gap can close in, in one step; when a gap may
@@ -766,8 +774,7 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
                 }
                 gapsKnown = false;
                 if (outcome == ImpactStep::Contact) {
-                    if (!apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
-                        restoreStepping(ballMoving);  // as below: again with everybody
+                    if (!contactKept()) {
                         unsafe = true;
                         break;
                     }
@@ -799,8 +806,7 @@ std::int64_t Simulation::stepThroughStretch(FrozenStart& start, const StretchLoo
                     const double stepStart = static_cast<double>(state_.step + done) * dt;  // s
                     const ImpactStep outcome = impactStep(ballMoving, stepStart, options, report);
                     if (outcome == ImpactStep::Contact) {
-                        if (!apartAfterContact(start, static_cast<double>(stretch - done - 1) * dt, dt)) {
-                            restoreStepping(ballMoving);
+                        if (!contactKept()) {
                             unsafe = true;
                             break;
                         }
