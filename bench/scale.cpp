@@ -35,13 +35,15 @@ int scale(const Options& options, std::ostream& out, std::ostream& log) {
     const Setting settings[] = {{"rk4", Integrator::Rk4, true},
                                 {"rk4", Integrator::Rk4, false},
                                 {"exact, long steps (default)", Integrator::Exact, true}};
-    // Interleaved rounds: each round times every size and setting once (a
-    // median of a few runs each), and each figure is the median of its
-    // rounds. This host's speed drifts by a third within minutes; timed one
-    // size after another, a slow spell at the end made the largest crowd
-    // look dearer per robot than it is, which is the very ratio this
-    // benchmark is for. A round takes about a minute, so the default row's
-    // largest over smallest cost per robot is also given per round.
+    // Interleaved rounds: each round times every size and setting once
+    // (each crowd run for 0.1 s, 1 to 15 times, its median), the sizes
+    // smallest first in odd rounds and largest first in even ones, and
+    // each crowd's figure is the median of its rounds. This host's speed
+    // drifts by a third within minutes; timed one size after another, a slow
+    // spell at the end made the largest crowd look dearer per robot than it
+    // is, which is the very ratio this benchmark is for. A round takes about
+    // a minute, so the default row's largest over smallest cost per robot is
+    // also given per round.
     const int rounds = options.quick ? 1 : 3;
     constexpr std::size_t kSettings = sizeof settings / sizeof settings[0];
     std::vector<std::vector<Scene>> scenes(sizes.size());  // per size, per crowd
@@ -56,8 +58,9 @@ int scale(const Options& options, std::ostream& out, std::ostream& log) {
     std::vector<std::vector<int>> runs(sizes.size(), std::vector<int>(kSettings, 0));
     std::vector<double> roundSpread;  // the default row's largest / smallest cost per robot, per round
     for (int round = 0; round < rounds; ++round) {
-        std::vector<double> defaultRow;  // us per robot per simulated s, per size, this round
-        for (std::size_t s = 0; s < sizes.size(); ++s) {
+        std::vector<double> defaultRow(sizes.size());  // us per robot per simulated s, per size, this round
+        for (std::size_t order = 0; order < sizes.size(); ++order) {
+            const std::size_t s = round % 2 == 0 ? order : sizes.size() - 1 - order;
             const int n = sizes[s];
             for (std::size_t j = 0; j < kSettings; ++j) {
                 double sum = 0.0;  // s, this round's crowd medians
@@ -77,8 +80,7 @@ int scale(const Options& options, std::ostream& out, std::ostream& log) {
                     if (round == 0) contacts[s][j] += crowdContacts;
                     runs[s][j] += t.runs;
                 }
-                if (settings[j].integrator == Integrator::Exact)
-                    defaultRow.push_back(sum / (crowds * n * duration) * 1e6);
+                if (settings[j].integrator == Integrator::Exact) defaultRow[s] = sum / (crowds * n * duration) * 1e6;
             }
         }
         const auto [low, high] = std::minmax_element(defaultRow.begin(), defaultRow.end());
@@ -87,6 +89,7 @@ int scale(const Options& options, std::ostream& out, std::ostream& log) {
         for (std::size_t s = 0; s < sizes.size(); ++s) log << ' ' << sizes[s] << ": " << defaultRow[s];
         log << " (largest / smallest " << roundSpread.back() << ")\n";
     }
+    std::vector<double> defaultMedians;  // the default row's figures, us per robot per simulated s
     for (std::size_t s = 0; s < sizes.size(); ++s) {
         const int n = sizes[s];
         for (std::size_t j = 0; j < kSettings; ++j) {
@@ -102,6 +105,7 @@ int scale(const Options& options, std::ostream& out, std::ostream& log) {
                 runTime += crowdTime;
             }
             const double perRobot = runTime / (crowds * n * duration) * 1e6;  // us per robot per simulated s
+            if (setting.integrator == Integrator::Exact) defaultMedians.push_back(perRobot);
             out << n << ",\"" << setting.name << "\"," << (setting.broadPhase ? "on" : "off") << ','
                 << scenes[s][0].field.length << ',' << duration << ',' << runTime << ',' << perRobot << ','
                 << contacts[s][j] << ',' << runs[s][j] << ',' << crowds << ',' << fewest << ',' << most << ',' << first
@@ -116,9 +120,10 @@ int scale(const Options& options, std::ostream& out, std::ostream& log) {
             log << "; " << contacts[s][j] << " contacts)\n";
         }
     }
-    log << "  default: largest / smallest cost per robot, per round: ";
+    const auto [low, high] = std::minmax_element(defaultMedians.begin(), defaultMedians.end());
+    log << "  default: largest / smallest cost per robot " << *high / *low << " (the figures above); per round ";
     for (std::size_t r = 0; r < roundSpread.size(); ++r) log << (r ? ", " : "") << roundSpread[r];
-    log << " (median " << median(roundSpread) << ")\n";
+    log << " (their median " << median(roundSpread) << ")\n";
     return 0;
 }
 
