@@ -12,8 +12,14 @@
 //             Simulation that gets the very voltages and placements the
 //             Match gave it, tick by tick (same final state hash, checked),
 //             and both are timed (CPU time, the fastest of a few runs); plus the referee's and the built-in team's
-//             functions timed alone on states recorded from the match.
+//             functions timed alone on states recorded from the match;
+//   contacts  where the exact integrator's time goes in a match: its ticks
+//             sorted by what the world looks like at their end (the ball
+//             squeezed between a wall and a robot, other contacts, none),
+//             each kind's share of the ticks, the contacts and the run
+//             time, at the default tick and at the camera's 30 ms.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -27,6 +33,7 @@
 #include "match_setup.h"
 #include "vssim/game/referee.h"
 #include "vssim/game/sparring_team.h"
+#include "vssim/separation.h"
 #include "vssim/state_hash.h"
 
 namespace vssim::bench {
@@ -105,7 +112,7 @@ Played play(const Scene& scene, std::uint64_t seed) {
 const char* kHeader =
     "part,setting,seed,yellow,blue,halves,half_duration_s,simulated_s,steps,run_time_s,realtime_factor,us_per_step,"
     "cpu_time_s,cpu_realtime_factor,"
-    "goals_yellow,goals_blue,calls,state_hash\n";
+    "goals_yellow,goals_blue,calls,state_hash,contacts\n";
 
 void row(std::ostream& out, const char* part, const std::string& setting, std::uint64_t seed, const Scene& scene,
          const Played& p) {
@@ -114,7 +121,7 @@ void row(std::ostream& out, const char* part, const std::string& setting, std::u
         << scene.game.rules.half_duration << ',' << p.simulated << ',' << p.steps << ',' << p.runTime << ','
         << p.simulated / p.runTime << ',' << 1e6 * p.runTime / static_cast<double>(p.steps) << ',' << p.cpuTime << ','
         << p.simulated / p.cpuTime << ',' << p.goals[0] << ',' << p.goals[1] << ',' << p.calls << ',' << hex(p.hash)
-        << '\n';
+        << ",\n";
 }
 
 // A match as the Simulation saw it: the start, and at every tick the
@@ -327,7 +334,7 @@ void cost(const Options& options, std::ostream& out, std::ostream& log) {
         // Per tick: us_per_step and cpu_time_s (a tick's), the other columns empty.
         auto perTick = [&](const char* what, double seconds) {
             out << "cost,\"" << what << "\"," << seed << ",,,,,,,,," << 1e6 * seconds / stepsPerTick << ',' << seconds
-                << ",,,,,\n";
+                << ",,,,,,\n";
         };
         perTick("referee alone, per tick", refereePerTick);
         perTick("built-in teams alone (both), per tick", teamPerTick);
@@ -341,6 +348,107 @@ void cost(const Options& options, std::ostream& out, std::ostream& log) {
     log << "    median share of the game layer: " << std::setprecision(3) << 100.0 * median(shares) << " %\n";
 }
 
+// The ball within this distance (m) of a wall and of a robot at a tick's end
+// counts as squeezed between them. (In the paper's elastic model a robot
+// pushing the ball into a wall keeps it bouncing between the two, gaps of
+// a fraction of a millimetre: 1 mm finds the same ticks as looking for a
+// contact of the ball with both in the tick, within 1 %.)
+constexpr double kSqueezeGap = 1e-3;
+
+bool ballSqueezed(const WorldModel& model, const WorldState& state) {
+    const Eigen::Vector2d ball(state.ball.x, state.ball.y);
+    bool nearWall = false, nearRobot = false;
+    for (const Wall& wall : model.field.walls)
+        nearWall = nearWall || ballWallSeparation(ball, model.ball.radius, wall).distance <= kSqueezeGap;
+    for (std::size_t i = 0; i < state.robots.size() && nearWall && !nearRobot; ++i)
+        nearRobot = !state.offField[i] &&
+                    ballRobotSeparation(ball, model.ball.radius, state.robots[i], model.sides[i]).distance <= kSqueezeGap;
+    return nearWall && nearRobot;
+}
+
+// What a kind of tick amounted to over a match.
+struct TickShare {
+    std::int64_t ticks = 0, steps = 0, contacts = 0;
+    double runTime = 0.0;  // s, wall clock within advanceTo
+
+    void add(const TickShare& o) { ticks += o.ticks, steps += o.steps, contacts += o.contacts, runTime += o.runTime; }
+    // Real-time factor of these ticks on their own (NaN: none, or too quick to time).
+    double factor(double dt) const { return runTime > 0.0 ? static_cast<double>(steps) * dt / runTime : NAN; }
+};
+
+// a / b as a percentage, 0 when b is 0.
+double percent(double a, double b) { return b > 0.0 ? 100.0 * a / b : 0.0; }
+
+void contacts(const Options& options, std::ostream& out, std::ostream& log) {
+    const int seeds = options.quick ? 1 : 5;
+    const double half = options.quick ? 20.0 : 300.0;
+    enum Kind { Squeezed, OtherContacts, NoContact, Kinds };
+    const char* names[Kinds] = {"ball squeezed between a wall and a robot", "other contacts", "no contact"};
+    log << "  contacts: where the exact integrator's time goes, " << seeds << " full matches (2 x " << half
+        << " s) per tick, built-in teams; a tick's kind from the world at its end (the ball within "
+        << 1e3 * kSqueezeGap << " mm of a wall and a robot: squeezed):\n";
+    for (double tick : {GameRules{}.tick, 0.03}) {
+        Scene scene = matchScene(TeamControl::Builtin, TeamControl::Builtin, 2, half, Integrator::Exact);
+        scene.game.rules.tick = tick;
+        std::array<TickShare, Kinds> all{};
+        for (int seed = 1; seed <= seeds; ++seed) {
+            std::array<TickShare, Kinds> mine{};
+            Match match(scene, static_cast<std::uint64_t>(seed));
+            const std::int64_t tickSteps = match.tickSteps();
+            const double limit = matchTimeLimit(scene.game.rules);
+            while (match.game().phase != GamePhase::Finished) {
+                const std::int64_t from = match.simulation().state().step;
+                const auto start = Clock::now();
+                const AdvanceReport r = match.advanceTo((from / tickSteps + 1) * tickSteps);
+                const double took = secondsSince(start);
+                const WorldState& s = match.simulation().state();
+                if (s.time > limit) throw std::runtime_error("a match did not finish (seed " + std::to_string(seed) + ")");
+                const Kind kind = ballSqueezed(match.simulation().model(), s) ? Squeezed
+                                  : r.contacts > 0                             ? OtherContacts
+                                                                               : NoContact;
+                TickShare& t = mine[kind];
+                ++t.ticks, t.steps += s.step - from, t.contacts += r.contacts, t.runTime += took;
+            }
+            const double dt = match.simulation().dt();
+            for (int k = 0; k < Kinds; ++k) {
+                const TickShare& t = mine[k];
+                all[k].add(t);
+                out << "contacts,\"tick " << tick << " s: " << names[k] << "\"," << seed << ','
+                    << teamControlName(scene.game.yellow).toStdString() << ','
+                    << teamControlName(scene.game.blue).toStdString() << ',' << scene.game.rules.halves << ',' << half
+                    << ',' << static_cast<double>(t.steps) * dt << ',' << t.steps << ',' << t.runTime << ','
+                    << t.factor(dt) << ',' << (t.steps > 0 ? 1e6 * t.runTime / static_cast<double>(t.steps) : NAN)
+                    << ",,,,,,," << t.contacts << '\n';
+            }
+        }
+        TickShare total;
+        for (const TickShare& t : all) total.add(t);
+        const double dt = scene.simulation.dt;
+        const double simulated = static_cast<double>(total.steps) * dt;
+        log << std::defaultfloat << std::setprecision(3) << "    tick " << 1e3 * tick << " ms: " << std::fixed
+            << std::setprecision(0) << total.factor(dt) << "x real time, "
+            << static_cast<double>(total.contacts) / simulated << " contacts per simulated second\n";
+        for (int k = 0; k < Kinds; ++k) {
+            const TickShare& t = all[k];
+            log << "      " << std::setw(42) << std::left << names[k] << std::right << std::fixed << std::setprecision(1)
+                << std::setw(5) << percent(static_cast<double>(t.ticks), static_cast<double>(total.ticks))
+                << " % of ticks, " << std::setw(5)
+                << percent(static_cast<double>(t.contacts), static_cast<double>(total.contacts)) << " % of contacts, "
+                << std::setw(5) << percent(t.runTime, total.runTime) << " % of run time (" << std::setprecision(0)
+                << t.factor(dt) << "x real time on their own)\n";
+        }
+        // What the squeezes cost the match: its factor were their ticks as
+        // cheap per simulated second as the ticks without a contact.
+        const double freeRate = all[NoContact].factor(dt);
+        if (std::isfinite(freeRate) && all[Squeezed].ticks > 0) {
+            const double squeezedAsFree = static_cast<double>(all[Squeezed].steps) * dt / freeRate;
+            log << "      were the squeezed ticks as cheap as those without a contact: " << std::setprecision(0)
+                << simulated / (total.runTime - all[Squeezed].runTime + squeezedAsFree) << "x real time\n";
+        }
+    }
+    log << std::defaultfloat;
+}
+
 }  // namespace
 
 int matchBenchmark(const Options& options, std::ostream& out, std::ostream& log) {
@@ -348,6 +456,7 @@ int matchBenchmark(const Options& options, std::ostream& out, std::ostream& log)
     speed(options, out, log);
     strength(options, out, log);
     cost(options, out, log);
+    contacts(options, out, log);
     return 0;
 }
 
