@@ -650,6 +650,45 @@ struct GoToPoint {
 };
 
 // ---------------------------------------------------------------------------
+// Getting unstuck. A robot caught on a goal post or in a corner, a corner of
+// its own pressed against the wall, can neither drive on (its wheels do not
+// slip sideways) nor turn there: the go-to-point law keeps pushing it in. When
+// the commands have asked for motion for kStuckTime while the robot moved less
+// than kStuckDistance and turned less than kStuckTurn, it drives its last
+// command in reverse for kBackOffTime, then carries on.
+// ---------------------------------------------------------------------------
+constexpr double kStuckTime = 0.5;       // s of simulated time (frame times)
+constexpr double kStuckDistance = 0.01;  // m: more than the estimates' noise
+constexpr double kStuckTurn = 0.15;      // rad
+constexpr double kBackOffTime = 0.3;     // s
+constexpr double kTryingVoltage = 2.0;   // V: |right| + |left| at least this asks for motion
+
+struct Unstick {
+    bool anchored = false;
+    Pose anchor{};       // where the robot was when it last moved
+    double since = 0;    // s: and when
+    double backOffUntil = -1;
+    std::pair<double, double> backOff{0, 0};
+
+    // The voltages (right, left) to send: `command`, or a back-off.
+    std::pair<double, double> filter(double time, const Pose& pose, std::pair<double, double> command) {
+        if (time < backOffUntil) return backOff;
+        const bool trying = std::abs(command.first) + std::abs(command.second) >= kTryingVoltage;
+        const bool moved = anchored && (std::hypot(pose.x - anchor.x, pose.y - anchor.y) > kStuckDistance ||
+                                        std::abs(wrapAngle(pose.theta - anchor.theta)) > kStuckTurn);
+        if (!anchored || moved || !trying) {
+            anchored = true, anchor = pose, since = time;
+            return command;
+        }
+        if (time - since < kStuckTime) return command;
+        backOff = {-command.first, -command.second};
+        backOffUntil = time + kBackOffTime;
+        anchored = false;  // measured again from after the back-off
+        return backOff;
+    }
+};
+
+// ---------------------------------------------------------------------------
 // The session
 // ---------------------------------------------------------------------------
 struct Options {
@@ -682,6 +721,8 @@ const char* kUsage =
     "(matrix, distortion; Newton's method) to (x_n, y_n), then x = x_n (mount_height - z),\n"
     "y = -y_n (mount_height - z) at the height z seen: z = side for the patches on the robot's top face,\n"
     "z = radius for the ball. Robot and ball are predicted forward over the delay (constant velocity).\n"
+    "A robot that has not moved 1 cm or turned 0.15 rad in 0.5 s while driven (caught on a goal post or\n"
+    "in a corner) drives its last command in reverse for 0.3 s.\n"
     "Exit status: 0 ball reached, 1 --max-time passed, 2 connection or protocol error.\n";
 
 int run(const Options& o) {
@@ -710,6 +751,7 @@ int run(const Options& o) {
     const double reachDistance = side / 2 + ballRadius + 0.015;
     const cv::Scalar team = o.team == "yellow" ? kYellow : kBlue, identity = kIdentity[o.robot % 6];
     GoToPoint controller{(*robot)["max_voltage"].num()};
+    Unstick unstick;
     Predictor robotPredictor{delay, true}, ballPredictor{delay, false};
     std::printf("connected to %s (%s mode) as %s: driving %s (index %d) to the ball; %s camera", welcome["server"].str().c_str(),
                 welcome["mode"].str().c_str(), o.team.c_str(), (*robot)["name"].str().c_str(), index,
@@ -804,7 +846,7 @@ int run(const Options& o) {
                             frame.number, estimate, skipped);
                 return 0;
             }
-            std::tie(right, left) = controller.command(*pose, *ball);
+            std::tie(right, left) = unstick.filter(frame.time, *pose, controller.command(*pose, *ball));
             if (o.verbose)
                 std::printf(
                     "frame %u t=%.3f: robot (%.3f, %.3f, %.0f deg) ball (%.3f, %.3f) distance %.3f m -> "

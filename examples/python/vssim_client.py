@@ -488,6 +488,52 @@ class GoToPoint:
 
 
 # --------------------------------------------------------------------------
+# Getting unstuck
+# --------------------------------------------------------------------------
+
+STUCK_TIME = 0.5        # s of simulated time (frame times)
+STUCK_DISTANCE = 0.01   # m: more than the estimates' noise
+STUCK_TURN = 0.15       # rad
+BACK_OFF_TIME = 0.3     # s
+TRYING_VOLTAGE = 2.0    # V: |right| + |left| at least this asks for motion
+
+
+class Unstick:
+    """Backs a robot off when it is caught.
+
+    A robot caught on a goal post or in a corner, a corner of its own pressed
+    against the wall, can neither drive on (its wheels do not slip sideways)
+    nor turn there: the go-to-point law keeps pushing it in. When the commands
+    have asked for motion for STUCK_TIME while the robot moved less than
+    STUCK_DISTANCE and turned less than STUCK_TURN, it drives its last command
+    in reverse for BACK_OFF_TIME, then carries on."""
+
+    def __init__(self):
+        self.anchor = None          # (x, y, theta) where the robot was when it last moved
+        self.since = 0.0            # s: and when
+        self.back_off_until = -1.0
+        self.back_off = (0.0, 0.0)
+
+    def filter(self, time, pose, command):
+        """The voltages (right, left) to send: `command`, or a back-off."""
+        if time < self.back_off_until:
+            return self.back_off
+        trying = abs(command[0]) + abs(command[1]) >= TRYING_VOLTAGE
+        moved = self.anchor is not None and (
+            math.hypot(pose[0] - self.anchor[0], pose[1] - self.anchor[1]) > STUCK_DISTANCE
+            or abs(wrap_angle(pose[2] - self.anchor[2])) > STUCK_TURN)
+        if self.anchor is None or moved or not trying:
+            self.anchor, self.since = pose, time
+            return command
+        if time - self.since < STUCK_TIME:
+            return command
+        self.back_off = (-command[0], -command[1])
+        self.back_off_until = time + BACK_OFF_TIME
+        self.anchor = None          # measured again from after the back-off
+        return self.back_off
+
+
+# --------------------------------------------------------------------------
 # The session
 # --------------------------------------------------------------------------
 
@@ -505,6 +551,8 @@ vision (examples/README.md):
             z = side for the patches on the robot's top face, z = radius for the ball.
   latency   robot and ball are moved forward by their velocity (from the last images)
             times the delay: --delay, or latency + jitter/2 + exposure/2 from the settings.
+  unstuck   a robot that has not moved 1 cm or turned 0.15 rad in 0.5 s while driven (caught
+            on a goal post or in a corner) drives its last command in reverse for 0.3 s.
 exit status: 0 ball reached, 1 --max-time passed, 2 connection, protocol or option error."""
 
 
@@ -571,6 +619,7 @@ def run(args):
     identity_bgr = IDENTITY_COLOURS[args.robot % len(IDENTITY_COLOURS)]
     reach_distance = side / 2 + ball_radius + 0.015
     controller = GoToPoint(max_voltage)
+    unstick = Unstick()
     robot_predictor, ball_predictor = Predictor(delay, angular=True), Predictor(delay, angular=False)
     print(f"connected to {welcome.get('server')} ({welcome.get('mode')} mode) as {args.team}: "
           f"driving {robot['name']} (index {index}) to the ball; {camera.projection} camera"
@@ -655,7 +704,7 @@ def run(args):
                 print(f"reached the ball at t={time:.2f} s (frame {frame}): {last_estimate}"
                       + (f" ({skipped} older images skipped)" if skipped else ""))
                 return 0
-            right, left = controller.command(pose, ball)
+            right, left = unstick.filter(time, pose, controller.command(pose, ball))
             if args.verbose:
                 print(f"frame {frame} t={time:.3f}: robot ({pose[0]:.3f}, {pose[1]:.3f}, "
                       f"{math.degrees(pose[2]):.0f} deg) ball ({ball[0]:.3f}, {ball[1]:.3f}) "
