@@ -410,6 +410,8 @@ class MockServer:
 
 
 ESTIMATE = re.compile(r"robot \((-?[\d.]+), (-?[\d.]+), (-?\d+) deg\) ball \((-?[\d.]+), (-?[\d.]+)\)")
+# A --verbose line's time, voltages and whether the client is backing off (Unstick).
+COMMAND = re.compile(r"t=([\d.]+): robot .* -> right ([-+][\d.]+) V left ([-+][\d.]+) V( \(backing off\))?")
 
 
 class ClientsTest(unittest.TestCase):
@@ -454,6 +456,39 @@ class ClientsTest(unittest.TestCase):
                 self.assertEqual(result.returncode, 0, what)
                 self.assertIn("reached the ball", result.stdout, what)
                 self.assertLess(server.closest, reach + 0.02, what)
+                # A robot that moves is never taken for a caught one, noise and lens and all.
+                self.assertNotIn("backing off", result.stdout, what)
+
+    def test_a_robot_that_cannot_move_backs_off(self):
+        """Unstick (examples/README.md, "Control"): a robot that the voltages
+        do not move (frozen) is driven in reverse after 0.5 s, for 0.3 s, once
+        in 1.2 s; the noise of the realistic camera does not keep it waiting."""
+        for name, command in self.clients():
+            server = MockServer((-0.62, 0.48, 2.4), (0.66, -0.52), frozen=True, seed=5)
+            result = self.run_client(command, server, 1.2)
+            what = f"{name}: {result.stdout[-1500:]}{result.stderr}"
+            self.assertEqual(result.returncode, 1, what)   # --max-time: not reached
+            self.assertIn("back-offs: 1)", result.stderr, what)
+            lines = [(float(t), float(r), float(l), bool(b)) for t, r, l, b in COMMAND.findall(result.stdout)]
+            self.assertGreaterEqual(len(lines), 30, what)
+            first = lines[0][0]
+            backing = [line for line in lines if line[3]]
+            self.assertTrue(backing, what)
+            start = backing[0][0]
+            # Triggered on the first frame 0.5 s after the first command (frames every 30 ms, one in 20 dropped).
+            self.assertGreaterEqual(start - first, 0.5 - 1e-6, what)
+            self.assertLess(start - first, 0.5 + 0.06 + 1e-6, what)
+            # For 0.3 s from there (the frame 0.3 s later drives on), and only then.
+            for t, right, left, back in lines:
+                self.assertEqual(back, 0 <= t - start < 0.3 - 1e-6, f"t={t}: {what}")
+            # The command it reverses: the one just before, the robot being still (driving backwards at 5 V).
+            _, right0, left0, _ = [line for line in lines if line[0] < start][-1]
+            self.assertGreater(abs(right0) + abs(left0), 2.0, what)
+            for t, right, left, back in backing:
+                self.assertAlmostEqual(right, backing[0][1], delta=1e-9, msg=what)
+                self.assertAlmostEqual(left, backing[0][2], delta=1e-9, msg=what)
+                self.assertAlmostEqual(right, -right0, delta=0.3, msg=what)
+                self.assertAlmostEqual(left, -left0, delta=0.3, msg=what)
 
 
 if __name__ == "__main__":

@@ -64,11 +64,13 @@ private slots:
                 << QString(VSSIM_EXAMPLE_CLIENT) << QStringList{"--team", "blue", "--robot", "0", "--encoding", "raw"}
                 << false << 0.55 << 0.5 << realistic << QVector<double>{};
         }
-        // Caught on blue's upper goal post, a corner pressed against the end
-        // wall, facing 60 degrees: driving on and turning towards the ball are
-        // both blocked. (Where the real-time case above once ended under ctest
-        // -j2, images late: the go-to-point law alone pushes on there until
-        // --max-time; the clients' Unstick backs it off.)
+        // Just short of blue's upper goal post, facing 60 degrees: the robot's
+        // front-right corner inside the goal mouth, the post 8.5 mm in front of
+        // its front face. Driving on presses that face onto the post, and
+        // turning left, towards the ball, swings it into the post: the robot is
+        // caught at (0.715, 0.178), where the real-time case with the realistic
+        // camera once ended under ctest -j2. The go-to-point law alone pushes
+        // on there until --max-time; the clients' Unstick backs it off.
         const QVector<double> caught{0.71, 0.17, 60.0 * 3.14159265358979323846 / 180.0};
         QTest::addRow("C++, blue 0, lockstep, raw, caught on a goal post")
             << QString(VSSIM_EXAMPLE_CLIENT)
@@ -155,9 +157,22 @@ private slots:
                                           {"x", robotPose[0]},
                                           {"y", robotPose[1]},
                                           {"theta", robotPose[2]}});
-            const auto moved = observer.nextOf(protocol::MessageType::Reply);
-            QVERIFY2(moved && jsonPayload(moved->message)["ok"].toBool(),
-                     moved ? qPrintable(QJsonDocument(jsonPayload(moved->message)).toJson(QJsonDocument::Compact)) : "no REPLY");
+            // A refusal (outside_field, ...) is an ERROR, not a REPLY.
+            const auto reply = std::uint8_t(protocol::MessageType::Reply);
+            const auto error = std::uint8_t(protocol::MessageType::Error);
+            int answerType = -1;
+            QJsonObject robotPlaced;
+            while (answerType < 0) {
+                const auto m = observer.next();
+                if (!m) break;
+                if (m->message.type == reply || m->message.type == error) {
+                    answerType = m->message.type;
+                    robotPlaced = jsonPayload(m->message);
+                }
+            }
+            QVERIFY2(answerType >= 0, "no answer to place_robot");
+            QVERIFY2(answerType == reply && robotPlaced["ok"].toBool(),
+                     qPrintable("place_robot: " + QJsonDocument(robotPlaced).toJson(QJsonDocument::Compact)));
         }
         const double reach = 0.5 * side + (*welcome)["ball"].toObject()["radius"].toDouble();
 

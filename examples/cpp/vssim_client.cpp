@@ -650,39 +650,57 @@ struct GoToPoint {
 };
 
 // ---------------------------------------------------------------------------
-// Getting unstuck. A robot caught on a goal post or in a corner, a corner of
-// its own pressed against the wall, can neither drive on (its wheels do not
-// slip sideways) nor turn there: the go-to-point law keeps pushing it in. When
-// the commands have asked for motion for kStuckTime while the robot moved less
+// Getting unstuck. A robot caught on a goal post or in a corner (the post in
+// front of one face and the robot's own corner inside the goal mouth, say)
+// can neither drive on (its wheels do not slip sideways) nor turn there: the
+// go-to-point law keeps pushing it in. When the commands have asked for
+// motion for kStuckTime while the robot, as the images show it, moved less
 // than kStuckDistance and turned less than kStuckTurn, it drives its last
 // command in reverse for kBackOffTime, then carries on.
 // ---------------------------------------------------------------------------
 constexpr double kStuckTime = 0.5;       // s of simulated time (frame times)
-constexpr double kStuckDistance = 0.01;  // m: more than the estimates' noise
-constexpr double kStuckTurn = 0.15;      // rad
+constexpr double kStuckDistance = 0.01;  // m: a still robot's estimates stay within 3 mm
+constexpr double kStuckTurn = 0.2;       // rad: and within 4 degrees (0.07 rad) of its heading
 constexpr double kBackOffTime = 0.3;     // s
-constexpr double kTryingVoltage = 2.0;   // V: |right| + |left| at least this asks for motion
+constexpr double kDrivenVoltage = 2.0;   // V: |right| + |left| at least this asks for motion
+constexpr double kTimeSlack = 1e-6;      // s: frame times carry rounding; a frame at a limit counts as there
 
 struct Unstick {
     bool anchored = false;
-    Pose anchor{};       // where the robot was when it last moved
-    double since = 0;    // s: and when
-    double backOffUntil = -1;
-    std::pair<double, double> backOff{0, 0};
+    Pose anchor{};              // where the robot was when it last moved (m, m, rad)
+    double anchorTime = 0;      // s (frame time): and when
+    double lastTime = -1;       // s: the last frame time seen (a `reset` starts time again)
+    double backOffStart = -1;   // s (frame time): when the last back-off began (-1: none)
+    std::pair<double, double> backOff{0, 0};     // V (right, left)
+    long backOffs = 0;          // how many so far
 
-    // The voltages (right, left) to send: `command`, or a back-off.
-    std::pair<double, double> filter(double time, const Pose& pose, std::pair<double, double> command) {
-        if (time < backOffUntil) return backOff;
-        const bool trying = std::abs(command.first) + std::abs(command.second) >= kTryingVoltage;
+    bool backingOff(double time) const {
+        return backOffStart >= 0 && time >= backOffStart && time - backOffStart < kBackOffTime - kTimeSlack;
+    }
+
+    // The robot not seen in this frame: its motion is not known, so the wait starts again.
+    void forget() { anchored = false; }
+
+    // The voltages (right, left) to send at `time` for `command`, the robot seen at `pose`.
+    std::pair<double, double> voltages(double time, const Pose& pose, std::pair<double, double> command) {
+        if (time < lastTime) {  // time went back (a reset): what came before is gone
+            const long count = backOffs;
+            *this = Unstick{};
+            backOffs = count;
+        }
+        lastTime = time;
+        if (backingOff(time)) return backOff;
+        const bool driven = std::abs(command.first) + std::abs(command.second) >= kDrivenVoltage;
         const bool moved = anchored && (std::hypot(pose.x - anchor.x, pose.y - anchor.y) > kStuckDistance ||
                                         std::abs(wrapAngle(pose.theta - anchor.theta)) > kStuckTurn);
-        if (!anchored || moved || !trying) {
-            anchored = true, anchor = pose, since = time;
+        if (!anchored || moved || !driven) {
+            anchored = true, anchor = pose, anchorTime = time;
             return command;
         }
-        if (time - since < kStuckTime) return command;
+        if (time - anchorTime < kStuckTime - kTimeSlack) return command;
         backOff = {-command.first, -command.second};
-        backOffUntil = time + kBackOffTime;
+        backOffStart = time;
+        ++backOffs;
         anchored = false;  // measured again from after the back-off
         return backOff;
     }
@@ -721,8 +739,8 @@ const char* kUsage =
     "(matrix, distortion; Newton's method) to (x_n, y_n), then x = x_n (mount_height - z),\n"
     "y = -y_n (mount_height - z) at the height z seen: z = side for the patches on the robot's top face,\n"
     "z = radius for the ball. Robot and ball are predicted forward over the delay (constant velocity).\n"
-    "A robot that has not moved 1 cm or turned 0.15 rad in 0.5 s while driven (caught on a goal post or\n"
-    "in a corner) drives its last command in reverse for 0.3 s.\n"
+    "A robot that has not moved 1 cm or turned 0.2 rad in the images for 0.5 s while driven (|right| +\n"
+    "|left| >= 2 V; caught on a goal post or in a corner) drives its last command in reverse for 0.3 s.\n"
     "Exit status: 0 ball reached, 1 --max-time passed, 2 connection or protocol error.\n";
 
 int run(const Options& o) {
@@ -821,6 +839,7 @@ int run(const Options& o) {
 
         cv::cvtColor(image, hsv, cv::COLOR_BGR2HSV);
         std::optional<Pose> pose = findRobot(hsv, foreground, camera, team, identity, side);
+        const std::optional<Pose> seen = pose;  // as the image shows it (Unstick: no prediction's noise)
         std::optional<cv::Point2d> ball = findBall(hsv, foreground, camera, ballRadius);
         // Where they are now, the image being `delay` s old (Predictor).
         if (pose) {
@@ -833,6 +852,7 @@ int run(const Options& o) {
         }
         double right = 0, left = 0;  // lost sight of something: wait for a better image
         if (!pose || !ball) {
+            unstick.forget();
             std::snprintf(estimate, sizeof estimate, "robot %sseen, ball %sseen", pose ? "" : "not ",
                           ball ? "" : "not ");
             if (o.verbose) std::printf("frame %u t=%.3f: %s\n", frame.number, frame.time, estimate);
@@ -842,17 +862,17 @@ int run(const Options& o) {
                           ball->y);
             if (distance <= reachDistance) {
                 conn.sendVoltages(index, 0, 0);
-                std::printf("reached the ball at t=%.2f s (frame %u): %s (%ld older images skipped)\n", frame.time,
-                            frame.number, estimate, skipped);
+                std::printf("reached the ball at t=%.2f s (frame %u): %s (%ld older images skipped, back-offs: %ld)\n",
+                            frame.time, frame.number, estimate, skipped, unstick.backOffs);
                 return 0;
             }
-            std::tie(right, left) = unstick.filter(frame.time, *pose, controller.command(*pose, *ball));
+            std::tie(right, left) = unstick.voltages(frame.time, *seen, controller.command(*pose, *ball));
             if (o.verbose)
                 std::printf(
                     "frame %u t=%.3f: robot (%.3f, %.3f, %.0f deg) ball (%.3f, %.3f) distance %.3f m -> "
-                    "right %+.2f V left %+.2f V\n",
+                    "right %+.2f V left %+.2f V%s\n",
                     frame.number, frame.time, pose->x, pose->y, pose->theta * 180 / kPi, ball->x, ball->y, distance,
-                    right, left);
+                    right, left, unstick.backingOff(frame.time) ? " (backing off)" : "");
         }
         if (startTime < 0) startTime = frame.time;  // --max-time counts from the first image
         if (frame.time - startTime >= o.maxTime) {
@@ -860,8 +880,8 @@ int run(const Options& o) {
             std::fprintf(
                 stderr,
                 "did not reach the ball within %g s of simulated time from the first image (t=%.2f s, frame %u; "
-                "last estimate: %s)\n",
-                o.maxTime, frame.time, frame.number, estimate);
+                "last estimate: %s; back-offs: %ld)\n",
+                o.maxTime, frame.time, frame.number, estimate, unstick.backOffs);
             return 1;
         }
         conn.sendVoltages(index, right, left);

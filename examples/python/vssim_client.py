@@ -492,44 +492,62 @@ class GoToPoint:
 # --------------------------------------------------------------------------
 
 STUCK_TIME = 0.5        # s of simulated time (frame times)
-STUCK_DISTANCE = 0.01   # m: more than the estimates' noise
-STUCK_TURN = 0.15       # rad
+STUCK_DISTANCE = 0.01   # m: a still robot's estimates stay within 3 mm
+STUCK_TURN = 0.2        # rad: and within 4 degrees (0.07 rad) of its heading
 BACK_OFF_TIME = 0.3     # s
-TRYING_VOLTAGE = 2.0    # V: |right| + |left| at least this asks for motion
+DRIVEN_VOLTAGE = 2.0    # V: |right| + |left| at least this asks for motion
+TIME_SLACK = 1e-6       # s: frame times carry rounding; a frame at a limit counts as there
 
 
 class Unstick:
     """Backs a robot off when it is caught.
 
-    A robot caught on a goal post or in a corner, a corner of its own pressed
-    against the wall, can neither drive on (its wheels do not slip sideways)
-    nor turn there: the go-to-point law keeps pushing it in. When the commands
-    have asked for motion for STUCK_TIME while the robot moved less than
+    A robot caught on a goal post or in a corner (the post in front of one
+    face and the robot's own corner inside the goal mouth, say) can neither
+    drive on (its wheels do not slip sideways) nor turn there: the go-to-point
+    law keeps pushing it in. When the commands have asked for motion for
+    STUCK_TIME while the robot, as the images show it, moved less than
     STUCK_DISTANCE and turned less than STUCK_TURN, it drives its last command
     in reverse for BACK_OFF_TIME, then carries on."""
 
     def __init__(self):
-        self.anchor = None          # (x, y, theta) where the robot was when it last moved
-        self.since = 0.0            # s: and when
-        self.back_off_until = -1.0
-        self.back_off = (0.0, 0.0)
+        self.anchor = None              # (x, y, theta), m and rad: where the robot was when it last moved
+        self.anchor_time = 0.0          # s (frame time): and when
+        self.last_time = -1.0           # s: the last frame time seen (a `reset` starts time again)
+        self.back_off_start = None      # s (frame time): when the last back-off began
+        self.back_off = (0.0, 0.0)      # V (right, left)
+        self.back_offs = 0              # how many so far
 
-    def filter(self, time, pose, command):
-        """The voltages (right, left) to send: `command`, or a back-off."""
-        if time < self.back_off_until:
+    def backing_off(self, time):
+        return (self.back_off_start is not None and time >= self.back_off_start
+                and time - self.back_off_start < BACK_OFF_TIME - TIME_SLACK)
+
+    def forget(self):
+        """The robot not seen in this frame: its motion is not known, so the wait starts again."""
+        self.anchor = None
+
+    def voltages(self, time, pose, command):
+        """The voltages (right, left) to send at `time` for `command`, the robot seen at `pose`."""
+        if time < self.last_time:       # time went back (a reset): what came before is gone
+            count = self.back_offs
+            self.__init__()
+            self.back_offs = count
+        self.last_time = time
+        if self.backing_off(time):
             return self.back_off
-        trying = abs(command[0]) + abs(command[1]) >= TRYING_VOLTAGE
+        driven = abs(command[0]) + abs(command[1]) >= DRIVEN_VOLTAGE
         moved = self.anchor is not None and (
             math.hypot(pose[0] - self.anchor[0], pose[1] - self.anchor[1]) > STUCK_DISTANCE
             or abs(wrap_angle(pose[2] - self.anchor[2])) > STUCK_TURN)
-        if self.anchor is None or moved or not trying:
-            self.anchor, self.since = pose, time
+        if self.anchor is None or moved or not driven:
+            self.anchor, self.anchor_time = pose, time
             return command
-        if time - self.since < STUCK_TIME:
+        if time - self.anchor_time < STUCK_TIME - TIME_SLACK:
             return command
         self.back_off = (-command[0], -command[1])
-        self.back_off_until = time + BACK_OFF_TIME
-        self.anchor = None          # measured again from after the back-off
+        self.back_off_start = time
+        self.back_offs += 1
+        self.anchor = None              # measured again from after the back-off
         return self.back_off
 
 
@@ -551,8 +569,10 @@ vision (examples/README.md):
             z = side for the patches on the robot's top face, z = radius for the ball.
   latency   robot and ball are moved forward by their velocity (from the last images)
             times the delay: --delay, or latency + jitter/2 + exposure/2 from the settings.
-  unstuck   a robot that has not moved 1 cm or turned 0.15 rad in 0.5 s while driven (caught
-            on a goal post or in a corner) drives its last command in reverse for 0.3 s.
+control (examples/README.md):
+  unstuck   a robot that has not moved 1 cm or turned 0.2 rad in the images for 0.5 s while
+            driven (|right| + |left| >= 2 V; caught on a goal post or in a corner) drives its
+            last command in reverse for 0.3 s.
 exit status: 0 ball reached, 1 --max-time passed, 2 connection, protocol or option error."""
 
 
@@ -684,6 +704,7 @@ def run(args):
         foreground = foreground_mask(image, background)
         hsv = cv2.cvtColor(image, cv2.COLOR_BGR2HSV)
         pose = find_robot(hsv, foreground, camera, team_bgr, identity_bgr, side)
+        seen = pose               # as the image shows it (Unstick: no prediction's noise)
         ball = find_ball(hsv, foreground, camera, ball_radius)
         # Where they are now, the image being `delay` s old (Predictor).
         if pose is not None:
@@ -693,6 +714,7 @@ def run(args):
 
         if pose is None or ball is None:
             right = left = 0.0    # lost sight of something: wait for a better image
+            unstick.forget()
             last_estimate = f"robot {'not ' if pose is None else ''}seen, ball {'not ' if ball is None else ''}seen"
             if args.verbose:
                 print(f"frame {frame} t={time:.3f}: {last_estimate}")
@@ -701,21 +723,25 @@ def run(args):
             last_estimate = (f"robot ({pose[0]:.3f}, {pose[1]:.3f}) ball ({ball[0]:.3f}, {ball[1]:.3f})")
             if distance <= reach_distance:
                 stop()
+                notes = [f"{skipped} older images skipped"] if skipped else []
+                notes += [f"back-offs: {unstick.back_offs}"] if unstick.back_offs else []
                 print(f"reached the ball at t={time:.2f} s (frame {frame}): {last_estimate}"
-                      + (f" ({skipped} older images skipped)" if skipped else ""))
+                      + (f" ({', '.join(notes)})" if notes else ""))
                 return 0
-            right, left = unstick.filter(time, pose, controller.command(pose, ball))
+            right, left = unstick.voltages(time, seen, controller.command(pose, ball))
             if args.verbose:
                 print(f"frame {frame} t={time:.3f}: robot ({pose[0]:.3f}, {pose[1]:.3f}, "
                       f"{math.degrees(pose[2]):.0f} deg) ball ({ball[0]:.3f}, {ball[1]:.3f}) "
-                      f"distance {distance:.3f} m -> right {right:+.2f} V left {left:+.2f} V")
+                      f"distance {distance:.3f} m -> right {right:+.2f} V left {left:+.2f} V"
+                      + (" (backing off)" if unstick.backing_off(time) else ""))
 
         if start_time is None:
             start_time = time  # --max-time counts from the first image: the server may have run a while
         if time - start_time >= args.max_time:
             stop()
             print(f"did not reach the ball within {args.max_time:g} s of simulated time from the first image "
-                  f"(t={time:.2f} s, frame {frame}; last estimate: {last_estimate})", file=sys.stderr)
+                  f"(t={time:.2f} s, frame {frame}; last estimate: {last_estimate}; back-offs: {unstick.back_offs})",
+                  file=sys.stderr)
             return 1
         conn.send_voltages(index, right, left)
 
