@@ -38,10 +38,6 @@ void EngineLoop::updateFrameSteps() {
     frameSteps_ = stepsPerFrame(settings_.framePeriod, match_->simulation().dt());
     fractionalFrames_ = std::abs(exact - std::round(exact)) > 1e-6 && exact > 1.0;
     exactFrameSteps_ = fractionalFrames_ ? exact : static_cast<double>(frameSteps_);
-    if (match_->ticking() && !fractionalFrames_) {
-        const std::int64_t tick = match_->tickSteps();
-        frameSteps_ = (frameSteps_ + tick - 1) / tick * tick;
-    }
 }
 
 double EngineLoop::framePeriod() const {
@@ -49,13 +45,11 @@ double EngineLoop::framePeriod() const {
 }
 
 std::int64_t EngineLoop::frameStepAt(std::int64_t k) const {
+    // Camera instants keep their own schedule whatever the game tick: the
+    // Match ticks inside any advance, so an instant between two ticks shows
+    // the world after the last tick's decisions.
     if (!fractionalFrames_) return frameBase_ + k * frameSteps_;
-    std::int64_t step = frameBase_ + static_cast<std::int64_t>(std::ceil(static_cast<double>(k) * exactFrameSteps_ - 1e-9));
-    if (match_->ticking()) {
-        const std::int64_t tick = match_->tickSteps();
-        step = (step + tick - 1) / tick * tick;
-    }
-    return step;
+    return frameBase_ + static_cast<std::int64_t>(std::ceil(static_cast<double>(k) * exactFrameSteps_ - 1e-9));
 }
 
 void EngineLoop::restartFrames(std::int64_t fromStep) {
@@ -330,21 +324,6 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
         case Kind::SetTeamControl:
             match_->setControl(r.team, r.control);
             (r.team == Team::Yellow ? scene_.game.yellow : scene_.game.blue) = r.control;
-            updateFrameSteps();
-            // The next camera instant on a tick boundary, if the Match ticks now.
-            if (fractionalFrames_) {
-                // The same schedule, now on tick boundaries or not: its next instant after now.
-                while (frameStepAt(frameIndex_) <= simulation().state().step) ++frameIndex_;
-                nextFrameStep_ = frameStepAt(frameIndex_);
-                break;
-            }
-            nextFrameStep_ = std::max(nextFrameStep_, (simulation().state().step / frameSteps_ + 1) * frameSteps_);
-            if (match_->ticking()) {
-                const std::int64_t tick = match_->tickSteps();
-                nextFrameStep_ = (nextFrameStep_ + tick - 1) / tick * tick;
-            }
-            frameBase_ = nextFrameStep_ - frameSteps_;
-            frameIndex_ = 1;
             break;
         case Kind::Pause: paused_ = true; break;
         case Kind::Resume:
@@ -359,13 +338,7 @@ void EngineLoop::handle(const EngineRequest& r, std::int64_t nowNs) {
                 return replyTo(r, "not_paused", "step works only while paused or in lockstep mode");
             if (stillHalted()) return replyTo(r, "non_finite", haltedMessage());
             const std::int64_t steps = Simulation::stepIndexAtOrAfter(r.duration, simulation().dt());
-            std::int64_t target = simulation().state().step + steps;
-            if (match_->ticking()) {
-                // In a game a step ends on a tick boundary: after the referee's decisions there.
-                const std::int64_t tick = match_->tickSteps();
-                target = (target + tick - 1) / tick * tick;
-            }
-            match_->advanceTo(target);
+            match_->advanceTo(simulation().state().step + steps);
             if (halt(nowNs)) return replyTo(r, "non_finite", haltedMessage());
             ++frame_;
             restartFrames(simulation().state().step);

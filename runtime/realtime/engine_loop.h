@@ -23,13 +23,15 @@
 // The game: the loop plays the scene as a Match (game/match.h): the referee
 // and the built-in teams act at every game tick (the scene's game.tick);
 // with the referee off and no built-in team the Match is exactly the plain
-// Simulation. While the Match ticks, camera instants fall on tick
-// boundaries (a period of whole steps is rounded up to whole ticks; any
-// other, such as FIRASim's 1/60 s, puts each instant on the first tick
-// boundary at or after its multiple of the period) and a `step`
-// ends on one (its duration is rounded up to the next tick boundary), so
-// every instant a client sees comes after the referee's and the built-in
-// team's decisions at it, and lockstep runs stay bit-identical. A change of
+// Simulation. Camera instants keep their own schedule whatever the tick
+// (FIRASim's 1/60 s puts each instant on the first step at or after its
+// multiple of the period: 17, 17 and 16 ms with 1 ms steps) and a `step`
+// lasts its own duration in whole steps of dt: the Match ticks inside any
+// advance, so every instant a client sees comes after the referee's and the
+// built-in team's decisions at the last tick, and lockstep runs repeat bit
+// for bit (the same steps and camera schedule give the same states; the
+// exact integrator's long steps round differently where a run is cut
+// elsewhere, so a run with another schedule drifts apart). A change of
 // the game's state (phase, call, half, score) is told to the sink
 // (gameChanged) before the camera instant that first shows it, or at once
 // when a request made it.
@@ -173,9 +175,8 @@ private:
     std::int64_t nextFrameStep_;  // step index of the next camera instant
     // A period of whole steps gives an instant every frameSteps_ steps; any
     // other (1/60 s in steps of 1 ms) gives instant k of a schedule at the
-    // first step at or after k periods from frameBase_ (on a tick boundary
-    // while the Match ticks): the right rate on average, within a step (or a
-    // tick) of each multiple of the period.
+    // first step at or after k periods from frameBase_: the right rate on
+    // average, within a step of each multiple of the period.
     bool fractionalFrames_ = false;
     double exactFrameSteps_ = 1.0;   // steps per period, not rounded
     std::int64_t frameBase_ = 0;     // the step the schedule counts from
