@@ -38,6 +38,7 @@ struct MatchOptions {
     std::optional<double> halfDuration;  // s
     std::uint64_t seed = 0;
     std::optional<TeamControl> yellow, blue;  // unset: the scene's, if builtin or idle; else builtin
+    std::optional<Team> leftTeam;             // unset: the scene's
     bool json = false;
     QString outPath;  // empty: stdout
 };
@@ -63,9 +64,10 @@ std::optional<MatchOptions> parseMatchOptions(const QStringList& arguments, QStr
     const QCommandLineOption seed("seed", "Jitter of the robots' kick-off spots.", "S");
     const QCommandLineOption yellow("yellow", "builtin or idle.", "CONTROL");
     const QCommandLineOption blue("blue", "builtin or idle.", "CONTROL");
+    const QCommandLineOption leftTeam("left-team", "yellow or blue.", "TEAM");
     const QCommandLineOption json("json", "JSON output.");
     const QCommandLineOption out("out", "Write to FILE instead of standard output.", "FILE");
-    parser.addOptions({help, halves, halfDuration, seed, yellow, blue, json, out});
+    parser.addOptions({help, halves, halfDuration, seed, yellow, blue, leftTeam, json, out});
     parser.addPositionalArgument("scene", "Scene file (JSON) or built-in scene name.");
     if (!parser.parse(arguments)) {
         *error = parser.errorText();
@@ -128,6 +130,14 @@ std::optional<MatchOptions> parseMatchOptions(const QStringList& arguments, QStr
         if (!c) return std::nullopt;
         o.blue = *c;
     }
+    if (parser.isSet(leftTeam)) {
+        const QString text = parser.value(leftTeam);
+        if (text != "yellow" && text != "blue") {
+            *error = QStringLiteral("--left-team: expected yellow or blue, got \"%1\"").arg(text);
+            return std::nullopt;
+        }
+        o.leftTeam = text == "yellow" ? Team::Yellow : Team::Blue;
+    }
     o.json = parser.isSet(json);
     o.outPath = parser.value(out);
     if (parser.isSet(out) && o.outPath.isEmpty()) {
@@ -170,6 +180,7 @@ std::optional<Scene> matchScene(const MatchOptions& o, QString* error) {
         scene.commands.clear();
     }
     GameRules& rules = scene.game.rules;
+    if (o.leftTeam) rules.left_team = *o.leftTeam;
     if (o.halves) rules.halves = *o.halves;
     if (o.halfDuration) rules.half_duration = *o.halfDuration;
     const double dt = scene.simulation.dt;
@@ -218,12 +229,14 @@ QByteArray textReport(const MatchOptions& o, const Match& match, const Hashes& h
     QString text;
     QTextStream s(&text);
     s << "scene: " << sceneLabel(o) << "\n";
-    s << QStringLiteral("match: %1 %2 of %3 s, seed %4, yellow %5 (defends x < 0) vs blue %6\n")
+    const bool yellowLeft = rules.left_team == Team::Yellow;
+    s << QStringLiteral("match: %1 %2 of %3 s, seed %4, yellow %5 (defends x %6 0) vs blue %7\n")
              .arg(rules.halves)
              .arg(rules.halves == 1 ? "half" : "halves")
              .arg(rules.half_duration)
              .arg(o.seed)
              .arg(teamControlName(match.control(Team::Yellow)))
+             .arg(yellowLeft ? "<" : ">")
              .arg(teamControlName(match.control(Team::Blue)));
     s << QStringLiteral("final score: yellow %1 - %2 blue\n").arg(g.goals[0]).arg(g.goals[1]);
     s << "\n" << g.calls.size() << " call" << (g.calls.size() == 1 ? "" : "s") << ":\n";
@@ -279,6 +292,7 @@ QByteArray jsonReport(const MatchOptions& o, const Match& match, const Hashes& h
         {"half_duration", rules.half_duration},
         {"yellow", teamControlName(match.control(Team::Yellow))},
         {"blue", teamControlName(match.control(Team::Blue))},
+        {"left_team", teamName(rules.left_team)},
         {"goals", QJsonObject{{"yellow", g.goals[0]}, {"blue", g.goals[1]}}},
         {"calls", calls},
         {"simulated_time", roundedSeconds(w.time)},
@@ -311,7 +325,8 @@ QString matchHelpText() {
                "(goals, halves, stuck ball, two defenders, two attackers, the goalkeeper), both teams\n"
                "driven by vssim's built-in team (or standing idle), and prints the final score and\n"
                "every call of the referee (docs/game.md). Yellow defends the goal at x < 0 and blue\n"
-               "the one at x > 0 for the whole match; yellow kicks off the odd halves.\n"
+               "the one at x > 0 for the whole match (--left-team blue swaps them); yellow kicks off\n"
+               "the odd halves.\n"
                "\n"
                "SCENE is a scene file (JSON, docs/scenes.md) or a built-in scene name, on a field\n"
                "with goals; its robots start on the referee's kick-off spots and its voltage commands\n"
@@ -332,8 +347,10 @@ QString matchHelpText() {
                "  --yellow CONTROL      builtin | idle: who drives the yellow robots (default: the\n"
                "                        scene's if it is builtin or idle, otherwise builtin)\n"
                "  --blue CONTROL        builtin | idle (default: as for --yellow)\n"
+               "  --left-team TEAM      yellow | blue: the team that defends the goal at x < 0 for the\n"
+               "                        whole match (default: the scene's game.left_team, yellow)\n"
                "  --json                write the result as JSON (one object: scene, seed, halves,\n"
-               "                        half_duration, yellow, blue, goals, calls, simulated_time,\n"
+               "                        half_duration, yellow, blue, left_team, goals, calls, simulated_time,\n"
                "                        steps, dt, match_hash, state_hash) instead of text\n"
                "  --out FILE            write the result to FILE instead of standard output (replaced\n"
                "                        only when the match completes)\n"

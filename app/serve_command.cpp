@@ -72,7 +72,13 @@ QString serveHelpText() {
                "                       the automatic referee (score, clock, fouls, placements; needs a field\n"
                "                       with goals), overriding the scene's game.referee; external: off, for a\n"
                "                       referee of your own such as VSSReferee (needs --firasim; the FIRASim\n"
-               "                       vision then counts the goals from the ball)\n"
+               "                       vision's goals then stay 0:0, as FIRASim's do)\n"
+               "  --left-team yellow|blue\n"
+               "                       the team that defends the goal at x < 0 (and attacks x > 0) for the\n"
+               "                       whole match, overriding the scene's game.left_team. Default: the\n"
+               "                       scene's (yellow unless it says), but blue with --firasim when the\n"
+               "                       scene does not say: FIRASim's layout, which FIRASim-based team\n"
+               "                       software and VSSReferee assume\n"
                "  --camera ideal|realistic\n"
                "                       the camera preset, replacing the scene's camera (docs/scenes.md):\n"
                "                       ideal is today's exact top view and instant delivery; realistic a\n"
@@ -94,8 +100,8 @@ QString serveHelpText() {
                "                       (default %8)\n"
                "  --vision-port N      vision UDP port (default %9)\n"
                "  --vision-rate HZ     vision (and camera) messages per second of simulated time, %10 to %11\n"
-               "                       (default 60: on average, each message at the first step, or game\n"
-               "                       tick, at or after its multiple of the period)\n"
+               "                       (default 60: on average, each message at the first step at or\n"
+               "                       after its multiple of the period, whatever the game's tick)\n"
                "  --multicast-ttl N    multicast hops, 0 to 255 (default 0: this machine only)\n"
                "  --firasim-sync       lockstep driven by FIRASim: each packet with commands advances one\n"
                "                       vision period and its vision goes out at the end (implies --firasim;\n"
@@ -150,6 +156,7 @@ int serveCommand(const QStringList& arguments) {
     const QCommandLineOption blue("blue", "control", "CONTROL");
     const QCommandLineOption referee("referee", "on|off|external", "ON");
     const QCommandLineOption camera("camera", "ideal|realistic", "PRESET");
+    const QCommandLineOption leftTeam("left-team", "yellow|blue", "TEAM");
     const QCommandLineOption firasim("firasim", "firasim");
     const QCommandLineOption firasimPort("firasim-port", "port", "N");
     const QCommandLineOption visionAddress("vision-address", "address", "ADDR");
@@ -165,7 +172,7 @@ int serveCommand(const QStringList& arguments) {
                        paused,        helloTimeout, quitAfter,  sceneCommands, readOnlyObservers,
                        yellow,        blue,         referee,    firasim,       firasimPort,
                        visionAddress, visionPort,   visionRate, multicastTtl,  firasimSync,
-                       vssref,        vssrefAddress, vssrefCommandPort, vssrefPlacementPort, camera});
+                       vssref,        vssrefAddress, vssrefCommandPort, vssrefPlacementPort, camera, leftTeam});
     auto usage = [](const QString& message) {
         err() << "vssim serve: " << message << "\n(see vssim serve --help)\n";
         err().flush();
@@ -332,6 +339,16 @@ int serveCommand(const QStringList& arguments) {
         if (scene->game.rules.referee && !fieldHasGoals(scene->field))
             return usage(QStringLiteral("--referee on: %1: %2").arg(scenePath, refereeFieldProblem()));
     }
+    // The sides: --left-team, else the scene file's game.left_team, else
+    // FIRASim's layout (blue on the left) when FIRASim's interface is on.
+    if (parser.isSet(leftTeam)) {
+        const QString text = parser.value(leftTeam);
+        if (text != "yellow" && text != "blue")
+            return usage(QStringLiteral("--left-team: expected yellow or blue, got \"%1\"").arg(text));
+        scene->game.rules.left_team = text == "yellow" ? Team::Yellow : Team::Blue;
+    } else if (firasimOn && !sceneNamesLeftTeam(scenePath)) {
+        scene->game.rules.left_team = Team::Blue;
+    }
     if (parser.isSet(camera)) {
         const QString text = parser.value(camera);
         if (text != "ideal" && text != "realistic")
@@ -401,7 +418,7 @@ int serveCommand(const QStringList& arguments) {
     out.flush();
     const GameSettings& game = scene->game;
     log(QStringLiteral("serving %1: %2 robots, %3 mode%4, dt %5 s, %6%7; referee %8, yellow %9, blue %10; "
-                       "camera %11")
+                       "camera %11; %12 defends x < 0")
             .arg(scenePath.startsWith(":/") ? QStringLiteral("built-in scene %1").arg(QFileInfo(scenePath).baseName())
                                             : scenePath)
             .arg(scene->robots.size())
@@ -415,11 +432,12 @@ int serveCommand(const QStringList& arguments) {
             .arg(game.rules.referee ? "on" : "off")
             .arg(game.yellow == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.yellow))
             .arg(game.blue == TeamControl::Remote ? QStringLiteral("tcp") : teamControlName(game.blue))
-            .arg(cameraPresetName(scene->camera)));
+            .arg(cameraPresetName(scene->camera))
+            .arg(teamLabel(game.rules.left_team)));
 
     if (firasimServer)
         log(QStringLiteral("firasim: %1 vision every %2 s of simulated time on average (%3 Hz; %6 Hz asked for, "
-                           "each message on the first step%7 at or after its time)%4; goals in the vision: %5")
+                           "each message on the first step at or after its time)%4; goals in the vision: %5")
                 .arg(fira.visionAddress.isMulticast()
                          ? QStringLiteral("multicast (TTL %1, loopback on)").arg(fira.multicastTtl)
                          : QStringLiteral("unicast"))
@@ -427,14 +445,11 @@ int serveCommand(const QStringList& arguments) {
                 .arg(1.0 / engine.framePeriod(), 0, 'g', 6)
                 .arg(fira.sync ? QStringLiteral("; sync: each command packet steps one period") : QString())
                 .arg(game.rules.referee ? QStringLiteral("the built-in referee's")
-                     : externalReferee  ? QStringLiteral("counted from the ball (--referee external: the "
-                                                          "built-in referee is off, an external one decides)")
-                                        : QStringLiteral("counted from the ball (no built-in referee)"))
-                .arg(rate)
-                .arg(scene->game.rules.referee || scene->game.yellow == TeamControl::Builtin ||
-                             scene->game.blue == TeamControl::Builtin
-                         ? QStringLiteral(" and game tick")
-                         : QString()));
+                     : externalReferee
+                         ? QStringLiteral("0:0, as FIRASim sends them (--referee external: the external referee "
+                                          "keeps the score)")
+                         : QStringLiteral("0:0, as FIRASim sends them (no built-in referee)"))
+                .arg(rate));
 
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);

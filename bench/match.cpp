@@ -323,7 +323,7 @@ void cost(const Options& options, std::ostream& out, std::ostream& log) {
             start = cpuSeconds();
             for (std::size_t k = 0; k < rec.states.size(); ++k)
                 for (Team team : {Team::Yellow, Team::Blue})
-                    sparringVoltages(model, rec.states[k], teams, rec.games[k], team, voltages);
+                    sparringVoltages(model, rec.states[k], teams, scene.game.rules, rec.games[k], team, voltages);
             teamTime = std::min(teamTime, cpuSeconds() - start);
         }
         const double samples = static_cast<double>(rec.states.size());

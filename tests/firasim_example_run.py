@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """The FIRASim example client end to end (examples/firasim/go_to_ball.py):
-`vssim serve --firasim` in real time at --speed 4 with one yellow robot and
+`vssim serve --firasim` in real time at --speed 4 with one blue robot and
 the ball, the example driving that robot with --ignore-referee, and this
 script watching the same vision. The robot must reach the ball and push it
-towards the goal it attacks (x > 0).
+towards the goal it attacks: x > 0, as blue does in FIRASim's layout, which
+both the example and --firasim follow by default.
 
 The vision goes by unicast to 127.0.0.1 (multicast may be unavailable in a
 container; tests/test_firasim.cpp tests multicast on loopback where the
@@ -18,6 +19,7 @@ the vision and relays every datagram, unchanged, to the example's port.
 
 import math
 import os
+import re
 import select
 import signal
 import socket
@@ -34,16 +36,29 @@ import firasim_python_test as common  # noqa: E402  (takes --vssim and --proto-d
 fira = common.fira
 EXAMPLE = os.path.join(HERE, "..", "examples", "firasim", "go_to_ball.py")
 
-# One yellow robot beside the ball, facing away from the goal it attacks:
+# One blue robot beside the ball, facing away from the goal it attacks:
 # it must drive round the ball, line up behind it and push it towards x > 0.
 SCENE = {
     "version": 1,
     "field": {"type": "vsss_3v3"},
-    "robots": [{"team": "yellow", "x": -0.45, "y": -0.2, "theta": math.pi / 2}],
+    "robots": [{"team": "blue", "x": -0.45, "y": -0.2, "theta": math.pi / 2}],
     "ball": {"x": -0.25, "y": 0.05},
 }
 SPEED = 4.0         # simulated seconds per wall second
 WALL_SECONDS = 8.0  # the example's --duration (32 s of simulated time): stopped once done
+MATCH_WALL_SECONDS = 40.0  # at most, for the match against the built-in team (160 s of simulated time)
+# The match: the example's three blue robots on the left, as FIRASim places
+# blue, against vssim's built-in team with one robot, which keeps the goal at
+# x > 0 (a striker alone does not beat the built-in team's three robots).
+KEEPER_SCENE = {
+    "version": 1,
+    "field": {"type": "vsss_3v3"},
+    "robots": [{"name": "blue0", "team": "blue", "x": -0.68, "y": 0.0, "theta": 0.0},
+               {"name": "blue1", "team": "blue", "x": -0.35, "y": 0.25, "theta": 0.0},
+               {"name": "blue2", "team": "blue", "x": -0.2, "y": -0.1, "theta": 0.0},
+               {"name": "yellow0", "team": "yellow", "x": 0.68, "y": 0.0, "theta": math.pi}],
+    "game": {"referee": True},
+}
 
 
 class ExampleRun(unittest.TestCase):
@@ -53,7 +68,7 @@ class ExampleRun(unittest.TestCase):
         server = common.Server(SCENE, "--speed", str(SPEED), sync=False, tmpdir=tmp.name)
         self.addCleanup(server.close)
         first = server.next()
-        robot0, ball0 = common.find_robot(first, True, 0), first.frame.ball
+        robot0, ball0 = common.find_robot(first, False, 0), first.frame.ball
         self.assertIsNotNone(robot0)
 
         # The example's own ports: vision (relayed by us) and the referee
@@ -61,7 +76,7 @@ class ExampleRun(unittest.TestCase):
         relay_port, referee_port = common.free_ports(2)
         env = {k: v for k, v in os.environ.items()}
         example = subprocess.Popen(
-            ["/usr/bin/python3", EXAMPLE, "--team", "yellow", "--robot", "0", "--ignore-referee",
+            ["/usr/bin/python3", EXAMPLE, "--team", "blue", "--robot", "0", "--ignore-referee",
              "--duration", str(WALL_SECONDS),
              "--vision-address", "127.0.0.1", "--vision-port", str(relay_port),
              "--command-address", "127.0.0.1", "--command-port", str(server.port),
@@ -90,14 +105,14 @@ class ExampleRun(unittest.TestCase):
             e.ParseFromString(data)
             packets += 1
             last = e
-            r = common.find_robot(e, True, 0)
+            r = common.find_robot(e, False, 0)
             d = math.hypot(r.x - e.frame.ball.x, r.y - e.frame.ball.y)
             if d < closest:
                 closest = d
             if touched_at is None and d < 0.08:
                 touched_at = e.step
             ball_x_max = max(ball_x_max, e.frame.ball.x)
-            if not stopped and touched_at is not None and (ball_x_max > ball0.x + 0.2 or e.goals_yellow > 0):
+            if not stopped and touched_at is not None and (ball_x_max > ball0.x + 0.2 or e.goals_blue > 0):
                 # Done: Ctrl-C, as a person would; the example stops its
                 # robots and exits (0). Its --duration is the upper bound.
                 example.send_signal(signal.SIGINT)
@@ -117,8 +132,74 @@ class ExampleRun(unittest.TestCase):
         # the ball's radius (0.074 m: touching at a corner; 0.059 m face on).
         self.assertIsNotNone(touched_at, "the robot never reached the ball (closest %.3f m)" % closest)
         # Pushed towards x > 0: the ball went at least 10 cm that way (or into the goal).
-        self.assertTrue(ball_x_max > ball0.x + 0.1 or last.goals_yellow > 0,
+        self.assertTrue(ball_x_max > ball0.x + 0.1 or last.goals_blue > 0,
                         "ball x from %.3f to at most %.3f" % (ball0.x, ball_x_max))
+
+    def test_a_firasim_layout_team_scores_into_the_right_goal(self):
+        """A match as FIRASim-based software plays it: `vssim serve --firasim
+        --vssref` with its defaults (blue on the left, FIRASim's layout), the
+        built-in referee and the built-in yellow team (a goalkeeper); the
+        example plays blue with FIRASim's conventions (it attacks x > 0,
+        reads the ball's z as given, answers every stoppage with its own
+        placements). It must score into the goal at x > 0, and every one of
+        its placements must be accepted."""
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        referee_port, placement_port, relay_port = common.free_ports(3)
+        server = common.Server(KEEPER_SCENE, "--speed", str(SPEED), "--blue", "tcp", "--yellow", "builtin",
+                               "--vssref", "--vssref-address", "127.0.0.1",
+                               "--vssref-command-port", str(referee_port),
+                               "--vssref-placement-port", str(placement_port), sync=False, tmpdir=tmp.name)
+        self.addCleanup(server.close)
+        example = subprocess.Popen(
+            ["/usr/bin/python3", EXAMPLE, "--team", "blue", "--robot", "1", "--duration", str(MATCH_WALL_SECONDS),
+             "--vision-address", "127.0.0.1", "--vision-port", str(relay_port),
+             "--command-address", "127.0.0.1", "--command-port", str(server.port),
+             "--referee-address", "127.0.0.1", "--referee-port", str(referee_port),
+             "--placement-address", "127.0.0.1", "--placement-port", str(placement_port),
+             "--proto-dir", common.PROTO_DIR],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        self.addCleanup(lambda: example.poll() is None and example.kill())
+        relay = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.addCleanup(relay.close)
+        goals = []        # (scorer, ball x in the last vision before the score changed)
+        score = (0, 0)    # blue, yellow
+        ball_x = 0.0
+        ball_z = None
+        deadline = time.monotonic() + MATCH_WALL_SECONDS + 10.0
+        while example.poll() is None and time.monotonic() < deadline:
+            ready, _, _ = select.select([server.vision], [], [], 0.1)
+            if not ready:
+                continue
+            data = server.vision.recv(65536)
+            relay.sendto(data, ("127.0.0.1", relay_port))
+            e = fira.Environment()
+            e.ParseFromString(data)
+            if e.frame.HasField("ball"):
+                ball_z = e.frame.ball.z
+            now = (e.goals_blue, e.goals_yellow)
+            if now != score:
+                goals.append(("blue" if now[0] > score[0] else "yellow", ball_x))
+                score = now
+                if now[0] >= 1:
+                    example.send_signal(signal.SIGINT)
+            if e.frame.HasField("ball"):
+                ball_x = e.frame.ball.x
+        output = example.communicate(timeout=10)[0].decode(errors="replace")
+        log = server.log()
+        print("goals (scorer, ball x just before): %s; example: %s" % (goals, output.strip().splitlines()[-1]),
+              flush=True)
+        self.assertEqual(example.returncode, 0, output)
+        self.assertIn("blue defends x < 0", log)
+        self.assertAlmostEqual(ball_z, 0.02135, places=6)  # the ball's centre height, as FIRASim sends it
+        self.assertGreaterEqual(score[0], 1, "blue did not score in %s s of wall time: %s" % (MATCH_WALL_SECONDS, log))
+        for scorer, x in goals:
+            if scorer == "blue":
+                self.assertGreater(x, 0.7, "blue's goal was scored at x %.3f: not in the goal at x > 0" % x)
+        sent = re.search(r"placements (\d+)", output)
+        self.assertIsNotNone(sent, output)
+        self.assertGreaterEqual(int(sent.group(1)), 1, "the example answered no stoppage")
+        self.assertNotIn("refused", log, log)
 
 
 if __name__ == "__main__":

@@ -89,8 +89,11 @@ class GoTo(unittest.TestCase):
 
 class Striker(unittest.TestCase):
     def test_goals(self):
-        self.assertEqual(ex.opponent_goal("yellow"), (0.75, 0.0))
-        self.assertEqual(ex.opponent_goal("blue"), (-0.75, 0.0))
+        # FIRASim's layout by default: blue on the left attacks x > 0.
+        self.assertEqual(ex.opponent_goal("blue"), (0.75, 0.0))
+        self.assertEqual(ex.opponent_goal("yellow"), (-0.75, 0.0))
+        self.assertEqual(ex.opponent_goal("yellow", left_team="yellow"), (0.75, 0.0))
+        self.assertEqual(ex.opponent_goal("blue", left_team="yellow"), (-0.75, 0.0))
 
     def test_lined_up_pushes_through_the_ball(self):
         self.assertEqual(ex.strike_target((-0.2, 0.0), (0.0, 0.0), (0.75, 0.0)), (0.75, 0.0))
@@ -112,11 +115,20 @@ class Striker(unittest.TestCase):
         x, y = ex.strike_target((0.2, -0.05), (0.0, 0.0), (0.75, 0.0))
         self.assertLess(y, 0.0)
 
+    def test_aim_past_the_keeper(self):
+        # No keeper: the goal's centre. A keeper in the mouth at y > 0: aim
+        # below it, and the other way round; a robot far from the goal is no keeper.
+        self.assertEqual(ex.aim_point("blue"), (0.75, 0.0))
+        self.assertEqual(ex.aim_point("blue", [(0.70, 0.05)]), (0.75, -ex.GOAL_AIM))
+        self.assertEqual(ex.aim_point("blue", [(0.70, -0.05)]), (0.75, ex.GOAL_AIM))
+        self.assertEqual(ex.aim_point("blue", [(0.20, 0.05)]), (0.75, 0.0))
+        self.assertEqual(ex.aim_point("yellow", [(-0.72, 0.1)]), (-0.75, -ex.GOAL_AIM))
+
     def test_both_teams_drive_forward_at_a_ball_ahead(self):
-        left, right = ex.striker_wheels((-0.3, 0.0, 0.0), (0.0, 0.0), "yellow")
+        left, right = ex.striker_wheels((-0.3, 0.0, 0.0), (0.0, 0.0), "blue")
         self.assertGreater(left, 0.0)
         self.assertAlmostEqual(left, right)
-        left, right = ex.striker_wheels((0.3, 0.0, math.pi), (0.0, 0.0), "blue")
+        left, right = ex.striker_wheels((0.3, 0.0, math.pi), (0.0, 0.0), "yellow")
         self.assertGreater(left, 0.0)
         self.assertAlmostEqual(left, right)
 
@@ -139,15 +151,16 @@ class Striker(unittest.TestCase):
                 best = (d, travel)
         return best
 
-    def test_yellow_reaches_the_ball_heading_for_the_goal_at_positive_x(self):
-        distance, travel = self.kinematic_run((-0.4, 0.3, -math.pi / 2), (0.1, -0.1), "yellow")
+    def test_blue_reaches_the_ball_heading_for_the_goal_at_positive_x(self):
+        # FIRASim's layout: blue, on the left, attacks x > 0.
+        distance, travel = self.kinematic_run((-0.4, 0.3, -math.pi / 2), (0.1, -0.1), "blue")
         self.assertLess(distance, ROBOT_HALF + BALL_RADIUS + 0.01)
         goal = math.atan2(0.0 - (-0.1), 0.75 - 0.1)
         self.assertLess(abs(ex.wrap(travel - goal)), math.radians(25))
 
-    def test_blue_comes_round_the_ball_and_heads_for_negative_x(self):
-        # Blue starts on yellow's side of the ball: it must go round it.
-        distance, travel = self.kinematic_run((-0.3, 0.05, 0.0), (0.0, 0.0), "blue", seconds=10.0)
+    def test_yellow_comes_round_the_ball_and_heads_for_negative_x(self):
+        # Yellow starts on blue's side of the ball: it must go round it.
+        distance, travel = self.kinematic_run((-0.3, 0.05, 0.0), (0.0, 0.0), "yellow", seconds=10.0)
         self.assertLess(distance, ROBOT_HALF + BALL_RADIUS + 0.01)
         self.assertLess(abs(ex.wrap(travel - math.pi)), math.radians(25))
 

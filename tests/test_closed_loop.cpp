@@ -262,6 +262,7 @@ private slots:
             {{"serve", "kickoff_3v3", "--referee", "external"}, "--referee external needs --firasim"},
             {{"serve", "kickoff_3v3", "--referee", "maybe"}, "--referee"},
             {{"serve", "kickoff_3v3", "--camera", "fisheye"}, "--camera: expected ideal or realistic, got \"fisheye\""},
+            {{"serve", "kickoff_3v3", "--left-team", "left"}, "--left-team: expected yellow or blue, got \"left\""},
             {{"serve", "kickoff_3v3", "--vssref-address", "127.0.0.1"}, "--vssref-address needs --vssref"},
             {{"serve", "kickoff_3v3", "--vssref", "--referee", "off"}, "--vssref speaks for the built-in referee"},
             {{"serve", "kickoff_3v3", "--vssref", "--vssref-placement-port", "0"}, "--vssref-placement-port"},

@@ -14,28 +14,32 @@
 
 using namespace vssim;
 
+Q_DECLARE_METATYPE(vssim::Team)
+
 namespace {
 
 constexpr double kR = 0.02135;  // ball radius, m
 constexpr double kHx = 0.75;    // half length of the 3 vs 3 field, m
 
-// The official 3 vs 3 field with three robots a side in a kick-off layout,
-// referee on, teams as given.
+// The official 3 vs 3 field with three robots a side in a kick-off layout
+// (each team in the half it defends), referee on, teams as given.
 Scene gameScene(TeamControl yellow = TeamControl::Idle, TeamControl blue = TeamControl::Idle,
-                FieldType type = FieldType::Vsss3v3, int perTeam = 3) {
+                FieldType type = FieldType::Vsss3v3, int perTeam = 3, Team leftTeam = Team::Yellow) {
     Scene scene;
     scene.field = makeField(officialDimensions(type));
     scene.simulation.collision_model = CollisionModel::Impulse;
     scene.simulation.restitution = 0.5;
     for (int t = 0; t < 2; ++t)
         for (int i = 0; i < perTeam; ++i) {
-            const double s = t == 0 ? -1.0 : 1.0;
-            RobotSpec r = test::robotAt("", s * (0.25 + 0.12 * i), 0.15 * (i - 1), t == 0 ? 0.0 : M_PI);
-            r.team = t == 0 ? Team::Yellow : Team::Blue;
+            const Team team = t == 0 ? Team::Yellow : Team::Blue;
+            const double s = team == leftTeam ? -1.0 : 1.0;
+            RobotSpec r = test::robotAt("", s * (0.25 + 0.12 * i), 0.15 * (i - 1), s < 0.0 ? 0.0 : M_PI);
+            r.team = team;
             r.name = std::string(t == 0 ? "yellow" : "blue") + std::to_string(i);
             scene.robots.push_back(r);
         }
     scene.game.rules.referee = true;
+    scene.game.rules.left_team = leftTeam;
     scene.game.yellow = yellow;
     scene.game.blue = blue;
     return scene;
@@ -116,12 +120,14 @@ private slots:
     void automaticPlacementIsLegal();
     void illegalPlacementsAreNamed();
     void goalInAMatchCountsOnceAndKicksOff();
+    void goalsFollowTheLeftTeam();
     void ballOffAPostIsNoGoal();
     void remoteVoltagesHeldWhileStopped();
     void teamPlacementDuringStop();
     void aPersonOverridesAnyTeam();
     void matchWithoutGameIsThePlainSimulation();
     void matchIsDeterministicAndCutFree();
+    void builtinTeamScoresAgainstIdle_data();
     void builtinTeamScoresAgainstIdle();
     void seedsVaryTheGameReproducibly();
     void voltagesForReachTheAskedVelocity();
@@ -169,6 +175,12 @@ void TestGame::goalAreasAndMarks() {
     QCOMPARE(quadrantOf(-0.1, 0.1), 2);
     QCOMPARE(quadrantOf(-0.1, -0.1), 3);
     QCOMPARE(quadrantOf(0.1, -0.1), 4);
+    // On an axis, as VSSReferee says: x = 0 is left, y = 0 is down.
+    QCOMPARE(quadrantOf(0.0, 0.0), 3);
+    QCOMPARE(quadrantOf(0.0, 0.1), 2);
+    QCOMPARE(quadrantOf(0.0, -0.1), 3);
+    QCOMPARE(quadrantOf(0.1, 0.0), 4);
+    QCOMPARE(quadrantOf(-0.1, 0.0), 3);
     // 5 vs 5: marks from the goal lines (vsss-game.md).
     const Field big = makeField(officialDimensions(FieldType::Vsss5v5));
     QCOMPARE(penaltyMark(big, -1), Eigen::Vector2d(-(1.1 - 0.375), 0.0));
@@ -353,18 +365,22 @@ void TestGame::clockStopsWhileStoppedAndHalvesEnd() {
 void TestGame::automaticPlacementIsLegal_data() {
     QTest::addColumn<int>("type");
     QTest::addColumn<int>("perTeam");
+    QTest::addColumn<Team>("leftTeam");
     for (int type : {int(FieldType::Vsss3v3), int(FieldType::Vsss5v5)})
-        for (int perTeam : {1, 3, 5}) {
-            const QByteArray name = (type == int(FieldType::Vsss3v3) ? "3v3 field, " : "5v5 field, ") +
-                                    QByteArray::number(perTeam) + " a side";
-            QTest::newRow(name.constData()) << type << perTeam;
-        }
+        for (int perTeam : {1, 3, 5})
+            for (Team left : {Team::Yellow, Team::Blue}) {
+                const QByteArray name = (type == int(FieldType::Vsss3v3) ? "3v3 field, " : "5v5 field, ") +
+                                        QByteArray::number(perTeam) + " a side, " + teamLabel(left) + " on the left";
+                QTest::newRow(name.constData()) << type << perTeam << left;
+            }
 }
 
 void TestGame::automaticPlacementIsLegal() {
     QFETCH(int, type);
     QFETCH(int, perTeam);
-    const Scene scene = gameScene(TeamControl::Idle, TeamControl::Idle, FieldType(type), perTeam);
+    QFETCH(Team, leftTeam);
+    const Scene scene = gameScene(TeamControl::Idle, TeamControl::Idle, FieldType(type), perTeam, leftTeam);
+    const GameRules& rules = scene.game.rules;
     const WorldModel model = makeWorldModel(scene);
     const WorldState state = initialWorldState(scene);
     const std::vector<Team> teams = robotTeams(scene);
@@ -399,12 +415,21 @@ void TestGame::automaticPlacementIsLegal() {
         if (c.call == Call::KickOff) QCOMPARE(ball, Eigen::Vector2d(0.0, 0.0));
         if (c.call == Call::FreeBall) QCOMPARE(ball, freeBallMark(model.field, c.quadrant));
         if (c.call == Call::PenaltyKick)
-            QCOMPARE(ball, penaltyMark(model.field, static_cast<int>(defendedSide(otherTeam(c.team)))));
-        if (c.call == Call::GoalKick) QVERIFY(inGoalArea(model.field, static_cast<int>(defendedSide(c.team)), ball));
+            QCOMPARE(ball, penaltyMark(model.field, static_cast<int>(defendedSide(rules, otherTeam(c.team)))));
+        if (c.call == Call::GoalKick)
+            QVERIFY(inGoalArea(model.field, static_cast<int>(defendedSide(rules, c.team)), ball));
+        // The side, independently of defendedSide: the left team's penalty
+        // and goal kick are at x < 0 exactly when the call says so.
+        if (c.call == Call::PenaltyKick) QCOMPARE(ball.x() < 0.0, c.team != leftTeam);
+        if (c.call == Call::GoalKick) QCOMPARE(ball.x() < 0.0, c.team == leftTeam);
+        // At a kick-off every robot is wholly in the half its team defends.
+        if (c.call == Call::KickOff)
+            for (std::size_t i = 0; i < teams.size(); ++i)
+                QVERIFY2((p.robots[i].x < 0.0) == (teams[i] == leftTeam), what.constData());
         // Free ball: one robot of each team at free_ball_distance along x, on its own side.
         if (c.call == Call::FreeBall && perTeam > 1) {
             for (Team team : {Team::Yellow, Team::Blue}) {
-                const Eigen::Vector2d spot = ball + Eigen::Vector2d(defendedSide(team) * 0.20, 0.0);
+                const Eigen::Vector2d spot = ball + Eigen::Vector2d(defendedSide(rules, team) * 0.20, 0.0);
                 bool found = false;
                 for (std::size_t i = 0; i < teams.size(); ++i)
                     found |= teams[i] == team && (Eigen::Vector2d(p.robots[i].x, p.robots[i].y) - spot).norm() < 1e-12;
@@ -481,6 +506,34 @@ void TestGame::goalInAMatchCountsOnceAndKicksOff() {
         QCOMPARE(checkTeamPlacement(match.simulation().model(), match.teams(), namesOf(scene), scene.game.rules,
                                     match.game().last, team, now),
                  std::string());
+}
+
+void TestGame::goalsFollowTheLeftTeam() {
+    // Blue on the left (FIRASim's layout): the goal at x > 0 is yellow's, so
+    // a ball rolled into it is a goal by blue, and yellow kicks off.
+    Scene scene = gameScene(TeamControl::Idle, TeamControl::Idle, FieldType::Vsss3v3, 3, Team::Blue);
+    scene.simulation.restitution = 1.0;
+    scene.game.rules.stop_duration = 0.05;
+    Match match(scene);
+    match.advanceTo(100);
+    QCOMPARE(match.game().phase, GamePhase::GameOn);
+    match.placeBall(BallState{0.5, 0.12, 3.0, 0.0});
+    match.advanceTo(match.simulation().state().step + 150);
+    QCOMPARE(match.game().goals[teamIndex(Team::Blue)], 1);
+    QCOMPARE(match.game().goals[teamIndex(Team::Yellow)], 0);
+    QCOMPARE(match.game().last.team, Team::Yellow);
+    QCOMPARE(QString::fromStdString(match.game().last.reason), QString("goal by blue"));
+    // The kick-off placement puts blue in the left half, yellow in the right.
+    const WorldState& s = match.simulation().state();
+    for (std::size_t i = 0; i < s.robots.size(); ++i)
+        QCOMPARE(s.robots[i].x < 0.0, match.teams()[i] == Team::Blue);
+    // And into the goal at x < 0, blue's: a goal by yellow.
+    match.advanceTo(match.simulation().state().step + 100);
+    QCOMPARE(match.game().phase, GamePhase::GameOn);
+    match.placeBall(BallState{-0.5, -0.12, -3.0, 0.0});
+    match.advanceTo(match.simulation().state().step + 150);
+    QCOMPARE(match.game().goals[teamIndex(Team::Yellow)], 1);
+    QCOMPARE(QString::fromStdString(match.game().last.reason), QString("goal by yellow"));
 }
 
 void TestGame::ballOffAPostIsNoGoal() {
@@ -608,8 +661,17 @@ void TestGame::matchIsDeterministicAndCutFree() {
     QVERIFY(a.simulation().state().robots[2].x != scene.robots[2].initial.x);
 }
 
+void TestGame::builtinTeamScoresAgainstIdle_data() {
+    QTest::addColumn<Team>("leftTeam");
+    QTest::newRow("yellow on the left") << Team::Yellow;
+    QTest::newRow("blue on the left") << Team::Blue;
+}
+
 void TestGame::builtinTeamScoresAgainstIdle() {
-    Scene scene = gameScene(TeamControl::Builtin, TeamControl::Idle);
+    // Against an idle team every goal of the idle team is an own goal: the
+    // built-in team attacks the goal its side says and scores only there.
+    QFETCH(Team, leftTeam);
+    Scene scene = gameScene(TeamControl::Builtin, TeamControl::Idle, FieldType::Vsss3v3, 3, leftTeam);
     scene.game.rules.halves = 1;
     scene.game.rules.half_duration = 60.0;
     Match match(scene);

@@ -452,6 +452,29 @@ private slots:
         }
     }
 
+    void sidesSwapFromTheEditMenu() {
+        // Edit > Blue defends the left goal: the match starts again with blue
+        // placed in the left half for the kick-off, yellow in the right.
+        MainWindow w(kickoffMatch(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QAction* blueLeft = w.findChild<QAction*>("action.blueOnLeft");
+        QVERIFY(blueLeft && blueLeft->isCheckable());
+        QCOMPARE(w.session().scene().game.rules.left_team, Team::Yellow);
+        const std::vector<RobotSpec>& robots = w.session().scene().robots;
+        auto inHalves = [&robots](const Snapshot& s, Team left) {
+            for (std::size_t i = 0; i < robots.size(); ++i)
+                if ((s.robots[i].x < 0.0) != (robots[i].team == left)) return false;
+            return true;
+        };
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return inHalves(s, Team::Yellow); }));
+        blueLeft->trigger();
+        QCOMPARE(w.session().scene().game.rules.left_team, Team::Blue);
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.time < 0.5 && inHalves(s, Team::Blue); }));
+        blueLeft->trigger();
+        QCOMPARE(w.session().scene().game.rules.left_team, Team::Yellow);
+    }
+
     void menusShortcutsAndUndoNames() {
         MainWindow w(kickoff(), ":/scenes/kickoff_3v3.json", anyPort());
         w.show();

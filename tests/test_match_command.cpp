@@ -40,6 +40,7 @@ private slots:
     void badInput_data();
     void badInput();
     void textReport();
+    void leftTeamSwapsTheSides();
     void jsonReport();
     void sameSeedSameMatch();
     void otherSeedOtherMatch();
@@ -56,7 +57,7 @@ void TestMatchCommand::helpDescribesEveryOption() {
     const Result help = runVssim({"match", "--help"});
     QCOMPARE(help.exitCode, 0);
     QVERIFY(help.out.startsWith("Usage: vssim match [SCENE] [options]"));
-    for (const char* option : {"--halves", "--half-duration", "--seed", "--yellow", "--blue", "--json", "--out"})
+    for (const char* option : {"--halves", "--half-duration", "--seed", "--yellow", "--blue", "--left-team", "--json", "--out"})
         QVERIFY2(help.out.contains(option), option);
     QVERIFY(help.out.contains("splitmix64"));
     QVERIFY(help.err.isEmpty());
@@ -89,6 +90,8 @@ void TestMatchCommand::badInput_data() {
                                          << "the field has no goals";
     QTest::newRow("unknown option") << QStringList{"match", "--duration", "3"} << "Unknown option 'duration'";
     QTest::newRow("empty out") << QStringList{"match", "--out", ""} << "--out: expected a file name";
+    QTest::newRow("bad left team") << QStringList{"match", "--left-team", "left"}
+                                   << "--left-team: expected yellow or blue, got \"left\"";
 }
 
 void TestMatchCommand::badInput() {
@@ -145,6 +148,22 @@ void TestMatchCommand::textReport() {
                 .match(lines[lines.size() - 2])
                 .hasMatch());
     QVERIFY2(r.err.contains("x real time"), r.err.constData());
+}
+
+void TestMatchCommand::leftTeamSwapsTheSides() {
+    // Blue on the left: the report says so, and the built-in blue team,
+    // alone against an idle yellow one, scores into the goal at x > 0
+    // (goals by blue only: an own goal would be yellow's).
+    const Result r = runVssim({"match", "--halves", "1", "--half-duration", "40", "--yellow", "idle", "--left-team",
+                               "blue", "--json"});
+    QCOMPARE(r.exitCode, 0);
+    const QJsonObject o = QJsonDocument::fromJson(r.out).object();
+    QCOMPARE(o["left_team"].toString(), QString("blue"));
+    QVERIFY2(o["goals"].toObject()["blue"].toInt() >= 1, r.out.constData());
+    QCOMPARE(o["goals"].toObject()["yellow"].toInt(), 0);
+    const Result text = runVssim({"match", "--halves", "1", "--half-duration", "1", "--left-team", "blue"});
+    QCOMPARE(text.exitCode, 0);
+    QVERIFY2(text.out.contains("yellow builtin (defends x > 0) vs blue builtin"), text.out.constData());
 }
 
 void TestMatchCommand::jsonReport() {

@@ -731,7 +731,7 @@ void TestSceneIo::gameDefaultsAndKeys() {
     const std::optional<Scene> s = parseScene(R"({"field": {"type": "vsss_3v3"}, "simulation": {"dt": 0.002},
         "game": {"referee": true, "halves": 4, "half_duration": 60, "stop_duration": 0, "stuck_ball_speed": 0.05,
                  "stuck_ball_time": 2.5, "crowded_area_time": 1, "free_ball_distance": 0.25, "tick": 0.02,
-                 "yellow": "builtin", "blue": "idle"}})",
+                 "left_team": "blue", "yellow": "builtin", "blue": "idle"}})",
                                               &error);
     QVERIFY2(s, qPrintable(error));
     const GameRules& r = s->game.rules;
@@ -744,7 +744,11 @@ void TestSceneIo::gameDefaultsAndKeys() {
     QCOMPARE(r.crowded_area_time, 1.0);
     QCOMPARE(r.free_ball_distance, 0.25);
     QCOMPARE(r.tick, 0.02);
-    QCOMPARE(s->game.yellow, TeamControl::Builtin);
+    QCOMPARE(r.left_team, Team::Blue);
+    QCOMPARE(plain->game.rules.left_team, Team::Yellow);  // vssim's default
+    QCOMPARE(parseScene(sceneToJson(*s), &error)->game.rules.left_team, Team::Blue);  // written back
+    QCOMPARE(QJsonDocument::fromJson(sceneToJson(*s)).object()["game"].toObject()["left_team"].toString(),
+             QString("blue"));
     QCOMPARE(s->game.blue, TeamControl::Idle);
     // A tick of exactly one step is fine; so is one of 0.003 s at dt 0.001 s (rounding included).
     QVERIFY2(parseScene(R"({"simulation": {"dt": 0.0005}, "game": {"tick": 0.0005, "yellow": "builtin"}})", &error),
@@ -818,6 +822,10 @@ void TestSceneIo::badGame_data() {
         << QByteArray("{" + official + R"("simulation": {"dt": 0.002}, "game": {"referee": true, "tick": 0.001}})")
         << "game.tick: must be at least one step of simulation.dt (0.002 s; got 0.001 s)";
     QTest::newRow("tick zero") << QByteArray(R"({"game": {"tick": 0}})") << "game.tick: must be > 0 and <= 1 s (got 0)";
+    QTest::newRow("bad left team") << QByteArray(R"({"game": {"left_team": "left"}})")
+                                   << R"(game.left_team: expected one of "yellow", "blue" (got "left"))";
+    QTest::newRow("left team not a string") << QByteArray(R"({"game": {"left_team": true}})")
+                                            << "game.left_team: expected a string";
     QTest::newRow("bad control") << QByteArray(R"({"game": {"yellow": "tcp"}})")
                                  << R"(game.yellow: expected one of "builtin", "remote", "idle" (got "tcp"))";
     QTest::newRow("control not a string") << QByteArray(R"({"game": {"blue": 1}})") << "game.blue: expected a string";

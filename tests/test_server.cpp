@@ -1011,6 +1011,7 @@ private slots:
         QCOMPARE(game["blue"].toString(), QString("builtin"));
         QCOMPARE(game["half_duration"].toDouble(), 300.0);
         QCOMPARE(game["tick"].toDouble(), 0.01);
+        QCOMPARE(game["left_team"].toString(), QString("yellow"));
         const QJsonObject state = game["state"].toObject();
         QCOMPARE(state["phase"].toString(), QString("stop"));
         QCOMPARE(state["call"].toString(), QString("kickoff"));

@@ -92,6 +92,9 @@ bool AppSession::startFirasim(QString* error) {
     connect(server.get(), &FirasimServer::logLine, this, &AppSession::logLine);
     if (!server->listen(error)) return false;
     firasim_ = std::move(server);
+    if (scene_.game.rules.left_team != Team::Blue)
+        emit logLine(QStringLiteral("firasim: yellow defends x < 0 in this scene; FIRASim's software and "
+                                    "VSSReferee's default expect blue there (Edit > Blue defends the left goal)"));
     return true;
 }
 

@@ -358,6 +358,21 @@ void MainWindow::buildActions() {
         releaseManual();
         session_->loadScene(dialog.scene());  // the rest follows in refresh(), from the snapshots
     });
+    // The sides (GameRules::left_team): swapping them starts the match again.
+    QAction* blueLeft = edit->addAction(tr("&Blue defends the left goal (FIRASim's layout)"));
+    blueLeft->setObjectName("action.blueOnLeft");
+    blueLeft->setCheckable(true);
+    blueLeft->setToolTip(tr("The team that defends the goal at x < 0; swapping starts the match again"));
+    connect(edit, &QMenu::aboutToShow, this, [this, blueLeft] {
+        const QSignalBlocker block(blueLeft);
+        blueLeft->setChecked(session_->scene().game.rules.left_team == Team::Blue);
+    });
+    connect(blueLeft, &QAction::toggled, this, [this](bool blue) {
+        Scene scene = session_->scene();
+        scene.game.rules.left_team = blue ? Team::Blue : Team::Yellow;
+        releaseManual();
+        session_->loadScene(scene);
+    });
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
     QAction* trails = view->addAction(tr("&Trails"));

@@ -16,10 +16,11 @@ Against vssim (examples/firasim/README.md):
     /usr/bin/python3 examples/firasim/go_to_ball.py --team yellow --duration 60
 
 Frames and units, as FIRASim and VSSReferee use them: the origin at the
-centre of the field, x towards the goal blue defends, y up (m); headings
-counter-clockwise from +x (rad in vision, DEGREES in a placement); yellow
-attacks the goal at x > 0, blue the one at x < 0. Wheel speeds in rad/s,
-positive forward.
+centre of the field, x along the field, y up (m); headings counter-clockwise
+from +x (rad in vision, DEGREES in a placement). Sides as in FIRASim (and
+`vssim serve --firasim`): blue defends the goal at x < 0 and attacks the one
+at x > 0, yellow the other way round; --left-team yellow for vssim's own
+layout. Wheel speeds in rad/s, positive forward.
 
 Needs Python 3 and python3-protobuf, and the modules protoc generated from
 vssim's .proto files (build/python_proto): --proto-dir, or the environment
@@ -52,6 +53,8 @@ K_HEADING = 8.0      # turn rate per radian of heading error, 1/s
 MAX_SPEED = 0.8      # m/s asked at most
 BEHIND_BALL = 0.08   # m: where the robot lines up behind the ball
 LINED_UP = 0.03      # m: off the ball-goal line by at most this, the robot pushes
+GOAL_AIM = 0.12      # m off the goal's centre, away from a keeper (the mouth is 0.40 m wide)
+KEEPER_ZONE = (0.20, 0.35)  # m: an opponent this near the goal line (along x) and centre (along y) keeps goal
 
 # VSSRef enums (vssref_common.proto), by number, so that the pure functions
 # below need no generated module.
@@ -73,14 +76,15 @@ def wrap(angle):
     return a - math.pi
 
 
-def attacks_sign(team):
-    """+1 when `team` attacks the goal at x > 0 (yellow), -1 otherwise (blue)."""
-    return 1.0 if team == "yellow" else -1.0
+def attacks_sign(team, left_team="blue"):
+    """+1 when `team` attacks the goal at x > 0 (the team on the left,
+    `left_team`: blue in FIRASim's layout), -1 otherwise."""
+    return 1.0 if team == left_team else -1.0
 
 
-def opponent_goal(team):
+def opponent_goal(team, left_team="blue"):
     """The centre of the goal `team` attacks, (x, y) in m."""
-    return (attacks_sign(team) * GOAL_X, 0.0)
+    return (attacks_sign(team, left_team) * GOAL_X, 0.0)
 
 
 def wheel_speeds(v, omega, wheel_radius=WHEEL_RADIUS, wheel_base=WHEEL_BASE, limit=MAX_WHEEL_SPEED):
@@ -139,19 +143,31 @@ def strike_target(robot, ball, goal, behind=BEHIND_BALL):
     return (spot[0] - side * uy * 0.1, spot[1] + side * ux * 0.1)
 
 
-def striker_wheels(pose, ball, team):
+def aim_point(team, opponents=(), left_team="blue"):
+    """Where in the goal `team` attacks to shoot, (x, y) in m: its centre, or
+    GOAL_AIM off it on the far side from an opponent standing in the goal's
+    mouth (its keeper), given the opponents' (x, y)."""
+    gx, gy = opponent_goal(team, left_team)
+    for x, y in opponents:
+        if abs(x - gx) < KEEPER_ZONE[0] and abs(y) < KEEPER_ZONE[1]:
+            return (gx, -GOAL_AIM if y > 0 else GOAL_AIM)
+    return (gx, gy)
+
+
+def striker_wheels(pose, ball, team, left_team="blue", opponents=()):
     """The whole control law: (left, right) wheel speeds in rad/s for the
-    striker at pose (x, y, theta) with the ball at (x, y)."""
-    target = strike_target(pose[:2], ball, opponent_goal(team))
+    striker at pose (x, y, theta) with the ball at (x, y), shooting past the
+    opponents' keeper."""
+    target = strike_target(pose[:2], ball, aim_point(team, opponents, left_team))
     return wheel_speeds(*go_to(pose, target))
 
 
-def placement_for(foul, favoured, quadrant, team, ids=(0, 1, 2)):
+def placement_for(foul, favoured, quadrant, team, ids=(0, 1, 2), left_team="blue"):
     """Our robots' poses for a stoppage, as [(id, x m, y m, heading DEGREES)]:
     `foul` and `favoured` (VSSRef numbers), the free ball's `quadrant` 1-4.
     Robot ids[0] keeps goal, ids[1] takes the kick, any others wait in our
     half. The referee keeps its own placement when ours breaks its rules."""
-    att = attacks_sign(team)
+    att = attacks_sign(team, left_team)
     own = -att
     ours = favoured == (YELLOW if team == "yellow" else BLUE)
     facing = 0.0 if att > 0 else 180.0
@@ -240,7 +256,10 @@ def parse_args(argv):
         description="Drive one robot to the ball and towards the opponent's goal over FIRASim's "
                     "interface, obeying VSSReferee's commands (examples/firasim/README.md).")
     p.add_argument("--team", choices=("yellow", "blue"), default="yellow",
-                   help="our team (yellow attacks x > 0); default yellow")
+                   help="our team; default yellow")
+    p.add_argument("--left-team", choices=("blue", "yellow"), default="blue",
+                   help="the team that defends the goal at x < 0: blue in FIRASim's layout (the default, "
+                        "and vssim serve --firasim's), yellow in vssim's own (--left-team yellow there)")
     p.add_argument("--robot", type=int, default=1, help="id of the robot that goes for the ball; default 1")
     p.add_argument("--duration", type=float, default=30.0,
                    help="seconds of wall time to play, then stop the robots and exit; default 30")
@@ -307,7 +326,8 @@ def main(argv):
                     placement = vssref_placement.VSSRef_Placement()
                     placement.world.teamColor = YELLOW if yellow else BLUE
                     for robot_id, x, y, degrees in placement_for(command.foul, command.teamcolor,
-                                                                 command.foulQuadrant, args.team, ids):
+                                                                 command.foulQuadrant, args.team, ids,
+                                                                 args.left_team):
                         r = placement.world.robots.add()
                         r.robot_id, r.x, r.y, r.orientation = robot_id, x, y, degrees
                     out.sendto(placement.SerializeToString(), (args.placement_address, args.placement_port))
@@ -323,13 +343,15 @@ def main(argv):
                     continue
                 counts["vision"] += 1
                 robots = env.frame.robots_yellow if yellow else env.frame.robots_blue
+                opponents = [(r.x, r.y) for r in (env.frame.robots_blue if yellow else env.frame.robots_yellow)]
                 ids = sorted(r.robot_id for r in robots) or ids
                 speeds = {r.robot_id: (0.0, 0.0) for r in robots}
                 playing = args.ignore_referee or foul == GAME_ON
                 for r in robots:
                     if playing and r.robot_id == args.robot and env.frame.HasField("ball"):
                         ball = (env.frame.ball.x, env.frame.ball.y)
-                        speeds[r.robot_id] = striker_wheels((r.x, r.y, r.orientation), ball, args.team)
+                        speeds[r.robot_id] = striker_wheels((r.x, r.y, r.orientation), ball, args.team,
+                                                            args.left_team, opponents)
                 send_wheels(speeds)
                 counts["commands"] += 1
     except KeyboardInterrupt:

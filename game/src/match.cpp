@@ -92,7 +92,7 @@ void Match::applyVoltages() {
     if (playing()) {
         for (Team team : {Team::Yellow, Team::Blue}) {
             const TeamControl c = control(team);
-            if (c == TeamControl::Builtin) sparringVoltages(sim_.model(), sim_.state(), teams_, game_, team, wanted_);
+            if (c == TeamControl::Builtin) sparringVoltages(sim_.model(), sim_.state(), teams_, rules_, game_, team, wanted_);
         }
     }
     for (std::size_t i = 0; i < n; ++i) {

@@ -21,7 +21,7 @@ constexpr int kSearchRays = 24;          // spots per ring
 constexpr double kFreeBallSlack = 0.01;  // m a robot may stand inside free_ball_distance
 
 // The heading that faces the goal a team attacks.
-double facingAttack(Team team) { return defendedSide(team) < 0.0 ? 0.0 : kPi; }
+double facingAttack(const GameRules& rules, Team team) { return defendedSide(rules, team) < 0.0 ? 0.0 : kPi; }
 
 struct Placer {
     const WorldModel& model;
@@ -106,9 +106,9 @@ Placement automaticPlacement(const WorldModel& model, const WorldState& state, c
         case Call::None:
         case Call::KickOff: break;
         case Call::FreeBall: ball = freeBallMark(field, call.quadrant == 0 ? 1 : call.quadrant); break;
-        case Call::PenaltyKick: ball = penaltyMark(field, static_cast<int>(defendedSide(otherTeam(call.team)))); break;
+        case Call::PenaltyKick: ball = penaltyMark(field, static_cast<int>(defendedSide(rules, otherTeam(call.team)))); break;
         case Call::GoalKick: {
-            const double s = defendedSide(call.team);
+            const double s = defendedSide(rules, call.team);
             ball = Eigen::Vector2d(s * (hx - 0.7 * field.dimensions.goal_area_depth), 0.0);
             if (!(field.dimensions.goal_area_depth > 0.0)) ball = Eigen::Vector2d(s * 0.5 * hx, 0.0);
             break;
@@ -117,7 +117,7 @@ Placement automaticPlacement(const WorldModel& model, const WorldState& state, c
     out.ball = BallState{ball.x(), ball.y(), 0.0, 0.0};
 
     auto goalLine = [&](Team team, std::size_t i) {
-        const double s = defendedSide(team);
+        const double s = defendedSide(rules, team);
         return Eigen::Vector2d(s * (hx - 0.5 * model.sides[i] - kOnGoalLine), 0.0);
     };
     auto behindBall = [&](std::size_t i, double towards) {  // towards: +1 kicking to +x, -1 to -x
@@ -127,14 +127,14 @@ Placement automaticPlacement(const WorldModel& model, const WorldState& state, c
 
     for (Team team : {Team::Yellow, Team::Blue}) {
         const int t = teamIndex(team);
-        const double s = defendedSide(team);
+        const double s = defendedSide(rules, team);
         const std::vector<std::size_t>& m = members[t];
         if (m.empty()) continue;
         const int kicker = kickerOf(m);
         switch (call.call) {
             case Call::None: break;
             case Call::KickOff:
-                if (team == call.team) placer.putNear(kicker, behindBall(kicker, -s), facingAttack(team), anywhere);
+                if (team == call.team) placer.putNear(kicker, behindBall(kicker, -s), facingAttack(rules, team), anywhere);
                 break;
             case Call::FreeBall: {
                 // Its robot nearest to the mark that is not the goalkeeper (or the goalkeeper alone).
@@ -144,19 +144,19 @@ Placement automaticPlacement(const WorldModel& model, const WorldState& state, c
                     const double d = std::hypot(state.robots[m[k]].x - ball.x(), state.robots[m[k]].y - ball.y());
                     if (d < best) best = d, chosen = m[k];
                 }
-                placer.putNear(chosen, ball + Eigen::Vector2d(s * rules.free_ball_distance, 0.0), facingAttack(team),
+                placer.putNear(chosen, ball + Eigen::Vector2d(s * rules.free_ball_distance, 0.0), facingAttack(rules, team),
                                anywhere);
                 break;
             }
             case Call::PenaltyKick:
                 if (team == call.team)
-                    placer.putNear(kicker, behindBall(kicker, -s), facingAttack(team), anywhere);
+                    placer.putNear(kicker, behindBall(kicker, -s), facingAttack(rules, team), anywhere);
                 else if (keeper[t] >= 0)
                     placer.put(keeper[t], goalLine(team, keeper[t]), 0.5 * kPi);
                 break;
             case Call::GoalKick:
                 if (team == call.team && keeper[t] >= 0)
-                    placer.putNear(keeper[t], goalLine(team, keeper[t]), facingAttack(team), anywhere);
+                    placer.putNear(keeper[t], goalLine(team, keeper[t]), facingAttack(rules, team), anywhere);
                 break;
         }
     }
@@ -171,16 +171,16 @@ Placement automaticPlacement(const WorldModel& model, const WorldState& state, c
     constexpr int kSpots = 10;
     for (Team team : {Team::Yellow, Team::Blue}) {
         const int t = teamIndex(team);
-        double s = defendedSide(team);                                    // the half to fill
-        if (call.call == Call::PenaltyKick) s = defendedSide(call.team);  // away from the penalty goal
+        double s = defendedSide(rules, team);                                    // the half to fill
+        if (call.call == Call::PenaltyKick) s = defendedSide(rules, call.team);  // away from the penalty goal
         const double circle = field.dimensions.centre_radius;
         const double minBall = call.call == Call::FreeBall ? rules.free_ball_distance : 0.0;
-        const int ownGoal = static_cast<int>(defendedSide(team));
-        const int penaltyGoal = static_cast<int>(defendedSide(otherTeam(call.team)));
+        const int ownGoal = static_cast<int>(defendedSide(rules, team));
+        const int penaltyGoal = static_cast<int>(defendedSide(rules, otherTeam(call.team)));
         int spot = team == Team::Yellow ? 0 : 1;  // the two teams start on opposite wings
         for (std::size_t i : members[t]) {
             if (placer.placed[i]) continue;
-            const double half = robotHalfExtent(model.sides[i], facingAttack(team));
+            const double half = robotHalfExtent(model.sides[i], facingAttack(rules, team));
             auto allowed = [&](const Eigen::Vector2d& p) {
                 if (!(s * p.x() >= half)) return false;  // wholly in the half
                 if (p.norm() < circle + boundingRadius(model.sides[i])) return false;
@@ -191,7 +191,7 @@ Placement automaticPlacement(const WorldModel& model, const WorldState& state, c
             };
             const Eigen::Vector2d preferred(s * fx[spot % kSpots] * hx, fy[spot % kSpots] * hy);
             ++spot;
-            placer.putNear(i, preferred, facingAttack(team), allowed);
+            placer.putNear(i, preferred, facingAttack(rules, team), allowed);
         }
     }
     return out;
@@ -202,8 +202,8 @@ std::string checkTeamPlacement(const WorldModel& model, const std::vector<Team>&
                                Team team, const Placement& placement) {
     const Field& field = model.field;
     const Eigen::Vector2d ball(placement.ball.x, placement.ball.y);
-    const double s = defendedSide(team);
-    const int penaltyGoal = static_cast<int>(defendedSide(otherTeam(call.team)));
+    const double s = defendedSide(rules, team);
+    const int penaltyGoal = static_cast<int>(defendedSide(rules, otherTeam(call.team)));
     auto who = [&names](std::size_t i) { return names[i] + " (robot " + std::to_string(i) + ")"; };
     int inCircle = 0, exceptions = 0;
     auto off = [&placement](std::size_t i) { return i < placement.offField.size() && placement.offField[i]; };
@@ -230,7 +230,7 @@ std::string checkTeamPlacement(const WorldModel& model, const std::vector<Team>&
                     return who(i) + " is closer to the ball than the free-ball distance";
                 break;
             case Call::PenaltyKick: {
-                const bool away = defendedSide(call.team) * p.x() >= half;  // in the half away from that goal
+                const bool away = defendedSide(rules, call.team) * p.x() >= half;  // in the half away from that goal
                 const bool keeperSpot = team != call.team && inGoalArea(field, penaltyGoal, p);
                 const bool kickerSpot = team == call.team && !inGoalArea(field, penaltyGoal, p);
                 if (!away && !(keeperSpot || kickerSpot)) return who(i) + " is not in the half away from the penalty";
@@ -239,7 +239,7 @@ std::string checkTeamPlacement(const WorldModel& model, const std::vector<Team>&
                 break;
             }
             case Call::GoalKick:
-                if (team != call.team && inGoalArea(field, static_cast<int>(defendedSide(call.team)), p))
+                if (team != call.team && inGoalArea(field, static_cast<int>(defendedSide(rules, call.team)), p))
                     return who(i) + " is in the goal area of a goal kick against its team";
                 if (team == call.team && inGoalArea(field, static_cast<int>(s), p) && ++exceptions > 1)
                     return who(i) + ": only the goalkeeper may be in the goal area";

@@ -38,8 +38,10 @@ std::vector<Team> robotTeams(const Scene& scene) {
 }
 
 int quadrantOf(double x, double y) {
-    if (x >= 0.0) return y >= 0.0 ? 1 : 4;
-    return y >= 0.0 ? 2 : 3;
+    // VSSReferee's convention: a ball on the y axis (x = 0) is in a left
+    // quadrant, one on the x axis (y = 0) in a lower one; the centre is Q3.
+    if (x > 0.0) return y > 0.0 ? 1 : 4;
+    return y > 0.0 ? 2 : 3;
 }
 
 const char* gamePhaseName(GamePhase phase) {
@@ -126,7 +128,7 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
 
     // A goal: the team attacking that goal scores; the other kicks off.
     if (const int side = goalScoredIn(field, ball, model.ball.radius)) {
-        const Team defender = side < 0 ? Team::Yellow : Team::Blue;
+        const Team defender = teamDefending(rules, side);
         const Team scorer = otherTeam(defender);
         ++game.goals[teamIndex(scorer)];
         return makeCall(rules, game, Call::KickOff, defender, 0, state.time,
@@ -147,7 +149,7 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
     // Time in the own goal area, for the goalkeeper.
     for (std::size_t i = 0; i < state.robots.size(); ++i)
         if (onField(state, i) &&
-            inGoalArea(field, static_cast<int>(defendedSide(teams[i])), {state.robots[i].x, state.robots[i].y}))
+            inGoalArea(field, static_cast<int>(defendedSide(rules, teams[i])), {state.robots[i].x, state.robots[i].y}))
             game.goalAreaTime[i] += elapsed;
 
     // A stuck ball: a free ball in its quadrant, or a penalty in a goal area.
@@ -171,7 +173,7 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
     game.ballStuckFor = speed < rules.stuck_ball_speed ? game.ballStuckFor + elapsed : 0.0;
     if (reached(game.ballStuckFor, rules.stuck_ball_time)) {
         for (Team defender : {Team::Yellow, Team::Blue})
-            if (inGoalArea(field, static_cast<int>(defendedSide(defender)), ballAt))
+            if (inGoalArea(field, static_cast<int>(defendedSide(rules, defender)), ballAt))
                 return makeCall(rules, game, Call::PenaltyKick, otherTeam(defender), 0, state.time,
                                 "ball stuck in the goal area");
         return makeCall(rules, game, Call::FreeBall, Team::Yellow, quadrantOf(ball.x, ball.y), state.time,
@@ -180,7 +182,7 @@ std::optional<RefereeCall> refereeTick(const GameRules& rules, const WorldModel&
     // Two defenders in their own goal area with the ball: a penalty for the
     // attackers; two attackers in the other goal area: a goal kick.
     for (Team team : {Team::Yellow, Team::Blue}) {
-        const int own = static_cast<int>(defendedSide(team));
+        const int own = static_cast<int>(defendedSide(rules, team));
         const int t = teamIndex(team);
         const bool defending = inGoalArea(field, own, ballAt) && robotsInArea(state, field, teams, team, own) >= 2;
         game.crowdedDefenceFor[t] = defending ? game.crowdedDefenceFor[t] + elapsed : 0.0;

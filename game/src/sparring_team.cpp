@@ -64,8 +64,8 @@ Eigen::Vector2d reachable(const Field& field, const Eigen::Vector2d& p, double s
 
 // Where to shoot: the middle of the goal, or the wider side of it when an
 // opponent stands in the goal area.
-Eigen::Vector2d aimPoint(const Field& field, const WorldState& state, const std::vector<Team>& teams, Team team) {
-    const int target = -static_cast<int>(defendedSide(team));
+Eigen::Vector2d aimPoint(const Field& field, const WorldState& state, const std::vector<Team>& teams, Team team,
+                         int target) {
     Eigen::Vector2d aim = goalCentre(field, target);
     for (std::size_t i = 0; i < teams.size(); ++i) {
         const Eigen::Vector2d p(state.robots[i].x, state.robots[i].y);
@@ -83,7 +83,7 @@ struct Player {
     const WorldState& state;
     std::size_t self;
     double side;  // m
-    Team team;
+    double own;   // the x sign of the goal the team defends (-1, +1)
 
     const RobotState& me() const { return state.robots[self]; }
     Eigen::Vector2d at() const { return {me().x, me().y}; }
@@ -146,7 +146,7 @@ struct Player {
     }
 
     Eigen::Vector2d keepGoal(const BallState& ball) const {
-        const double s = defendedSide(team);
+        const double s = own;
         const double hx = 0.5 * field.length;
         const double reach = 0.5 * field.dimensions.goal_width;
         const Eigen::Vector2d b(ball.x, ball.y);
@@ -164,14 +164,14 @@ struct Player {
     // Behind the ball on the own side, off its line to the own goal, ready
     // for a rebound: the k-th supporter on alternating sides.
     Eigen::Vector2d support(const BallState& ball, int k) const {
-        const double s = defendedSide(team);
+        const double s = own;
         const Eigen::Vector2d b(ball.x, ball.y);
         const Eigen::Vector2d spot(b.x() + s * 0.25, b.y() + (k % 2 == 0 ? 0.2 : -0.2));
         return travel(reachable(field, spot, side));
     }
 
     Eigen::Vector2d defend(const BallState& ball) const {
-        const double s = defendedSide(team);
+        const double s = own;
         const Eigen::Vector2d goal = goalCentre(field, static_cast<int>(s));
         const Eigen::Vector2d b(ball.x, ball.y);
         Eigen::Vector2d spot = goal + kDefenderDistance * (b - goal).normalized();
@@ -194,7 +194,8 @@ Voltages voltagesFor(const RobotModel& robot, const RobotState& state, double v,
 }
 
 void sparringVoltages(const WorldModel& model, const WorldState& state, const std::vector<Team>& teams,
-                      const GameState& game, Team team, std::vector<Voltages>& voltages) {
+                      const GameRules& rules, const GameState& game, Team team, std::vector<Voltages>& voltages) {
+    const double own = defendedSide(rules, team);
     const int keeper = hasGoals(model.field) ? goalkeeperOf(game, teams, team) : -1;
     // The striker: the field player nearest to the ball (ties: the lowest
     // index). Only it goes for the ball, so that teammates never fight over
@@ -210,12 +211,12 @@ void sparringVoltages(const WorldModel& model, const WorldState& state, const st
     int others = 0;  // field players that are not the striker, in index order
     for (std::size_t i = 0; i < teams.size(); ++i) {
         if (teams[i] != team) continue;
-        const Player player{model.field, state, i, model.sides[i], team};
+        const Player player{model.field, state, i, model.sides[i], own};
         Eigen::Vector2d u;
         if (static_cast<int>(i) == keeper)
             u = player.keepGoal(state.ball);
         else if (static_cast<int>(i) == striker)
-            u = player.attack(state.ball, aimPoint(model.field, state, teams, team));
+            u = player.attack(state.ball, aimPoint(model.field, state, teams, team, -static_cast<int>(own)));
         else
             u = others++ == 0 && hasGoals(model.field) ? player.defend(state.ball) : player.support(state.ball, others);
         voltages[i] = voltagesFor(model.robots[i], state.robots[i], u(0), u(1));

@@ -53,7 +53,7 @@ bool FirasimServer::listen(QString* error) {
         vision_.setSocketOption(QAbstractSocket::MulticastLoopbackOption, settings_.multicastLoopback ? 1 : 0);
     }
     listening_ = true;
-    feed_->activate(scene_, settings_.countGoals,
+    feed_->activate(scene_,
                     [this] { QMetaObject::invokeMethod(this, &FirasimServer::sendVision, Qt::QueuedConnection); });
     return true;
 }

@@ -54,7 +54,6 @@ struct FirasimSettings {
     int multicastTtl = 0;           // hops: 0 keeps the vision on this machine
     bool multicastLoopback = true;  // this machine's own sockets get the multicast too
     bool sync = false;              // the engine is in lockstep: each command packet steps one vision period
-    bool countGoals = true;         // with the built-in referee off: count goals from the ball
 };
 
 // What the server has seen and done since it started.

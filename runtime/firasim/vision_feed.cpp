@@ -12,17 +12,14 @@ std::shared_ptr<VisionFeed> VisionFeed::attach(EngineThread& engine) {
     return feed;
 }
 
-void VisionFeed::activate(const Scene& scene, bool countGoals, std::function<void()> wake) {
+void VisionFeed::activate(const Scene& scene, std::function<void()> wake) {
     std::lock_guard lock(mutex_);
     active_ = true;
-    countGoals_ = countGoals;
     wake_ = std::move(wake);
     roster_.emplace(scene);
-    field_ = scene.field;
     ballRadius_ = scene.ball_params.radius;
     camera_ = scene.camera;
     fieldMessage_ = firasimField(scene.field);
-    counter_.reset();
     onField_.assign(scene.robots.size(), 1);
     latest_.reset();
     queue_.clear();
@@ -76,15 +73,10 @@ void VisionFeed::observe(const InstantRecord& record) {
         for (std::size_t i = 0; i < onField_.size(); ++i)
             onField_[i] = i < record.world.offField.size() && record.world.offField[i] ? 0 : 1;
         latest_ = record.world;
-        std::array<int, 2> goals{};
-        if (record.referee) {
-            goals = record.game.goals;
-        } else if (countGoals_) {
-            counter_.observe(field_, record.world.ball, ballRadius_);
-            goals = {counter_.goals(Team::Yellow), counter_.goals(Team::Blue)};
-        }
+        const std::array<int, 2> goals = record.referee ? record.game.goals : std::array<int, 2>{};
         const fira_message::sim_to_ref::Environment env =
-            firasimEnvironment(fieldMessage_, *roster_, record.world, record.step, onField_, goals, camera_, record.frame);
+            firasimEnvironment(fieldMessage_, *roster_, record.world, ballRadius_, onField_, goals, camera_,
+                               record.frame);
         VisionItem item;
         item.bytes.resize(static_cast<qsizetype>(env.ByteSizeLong()));
         env.SerializeToArray(item.bytes.data(), static_cast<int>(item.bytes.size()));

@@ -6,9 +6,9 @@
 // and stop a FirasimServer while its engine runs: while no server listens
 // (inactive), an instant costs one lock and nothing else.
 //
-// The score: the built-in referee's when it is on; otherwise, with goal
-// counting on, goals counted from the ball at each camera instant
-// (goal_counter.h); otherwise 0:0.
+// The score: the built-in referee's when it is on; otherwise 0:0, as
+// FIRASim always sends it (its own goal counting is switched off in its
+// source; an external referee such as VSSReferee keeps the score itself).
 //
 // The scene's camera adds its ground-truth noise to the positions (and
 // leaves vanished bodies out), drawn per camera instant (vision_packet.h).
@@ -27,7 +27,6 @@
 #include <vector>
 
 #include "fira_packet.pb.h"
-#include "firasim/goal_counter.h"
 #include "firasim/team_roster.h"
 #include "realtime/instant_record.h"
 
@@ -51,12 +50,11 @@ public:
     static std::shared_ptr<VisionFeed> attach(EngineThread& engine);
 
     // Starts feeding for `scene` (its field, robots and ball): every robot on
-    // the field, the goals counted from 0, the queue emptied. `countGoals`:
-    // count goals from the ball while the built-in referee is off. `wake` is
+    // the field, the queue emptied. `wake` is
     // called (on the engine thread) when the queue goes from empty to not
     // empty, under the feed's lock; it must only schedule work (a queued call)
     // and not call the feed.
-    void activate(const Scene& scene, bool countGoals, std::function<void()> wake);
+    void activate(const Scene& scene, std::function<void()> wake);
     // Stops feeding; no `wake` call happens after this returns.
     void deactivate();
 
@@ -75,14 +73,11 @@ public:
 private:
     mutable std::mutex mutex_;
     bool active_ = false;
-    bool countGoals_ = true;
     std::function<void()> wake_;
     std::optional<TeamRoster> roster_;
-    Field field_;
     double ballRadius_ = 0.0;
     CameraSettings camera_;  // the scene's: its ground-truth noise shows in the vision
     fira_message::Field fieldMessage_;
-    GoalCounter counter_;
     std::vector<char> onField_;
     std::optional<WorldState> latest_;
     std::deque<VisionItem> queue_;

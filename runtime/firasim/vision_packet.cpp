@@ -24,12 +24,15 @@ fira_message::Field firasimField(const Field& field) {
 }
 
 fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Field& field, const TeamRoster& roster,
-                                                         const WorldState& world, std::int64_t step,
+                                                         const WorldState& world, double ballRadius,
                                                          const std::vector<char>& onField,
                                                          const std::array<int, 2>& goals, const CameraSettings& camera,
                                                          std::int64_t frame) {
     fira_message::sim_to_ref::Environment env;
-    env.set_step(static_cast<std::uint32_t>(step));
+    // FIRASim's step is its simulated time in whole milliseconds (its steps
+    // times its step length, truncated), not a count of steps. The 1e-6 ms
+    // keeps a whole millisecond that rounding put just below it.
+    env.set_step(static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::floor(world.time * 1000.0 + 1e-6))));
     fira_message::Frame* out = env.mutable_frame();
     CameraDrawKey key{camera.seed, kFirasimStream, frame, kBallBody};
     const ObservedPose seenBall = observePose(camera, key, world.ball.x, world.ball.y, 0.0);
@@ -37,7 +40,7 @@ fira_message::sim_to_ref::Environment firasimEnvironment(const fira_message::Fie
         fira_message::Ball* ball = out->mutable_ball();
         ball->set_x(seenBall.x);
         ball->set_y(seenBall.y);
-        ball->set_z(0.0);
+        ball->set_z(ballRadius);
         ball->set_vx(world.ball.vx);
         ball->set_vy(world.ball.vy);
         ball->set_vz(0.0);

@@ -371,7 +371,7 @@ bool SceneReader::game(const QJsonObject& root, Scene& scene) {
     if (!object(root.value(path), path, &o) ||
         !keys(o, path,
               {"referee", "halves", "half_duration", "stop_duration", "stuck_ball_speed", "stuck_ball_time",
-               "crowded_area_time", "free_ball_distance", "tick", "yellow", "blue"}) ||
+               "crowded_area_time", "free_ball_distance", "tick", "left_team", "yellow", "blue"}) ||
         !number(o, path, "halves", {1.0, static_cast<double>(kMaxHalves), false, ""}, &halves) ||
         !number(o, path, "half_duration", kHalfDuration, &r.half_duration) ||
         !number(o, path, "stop_duration", kStopDuration, &r.stop_duration) ||
@@ -379,7 +379,8 @@ bool SceneReader::game(const QJsonObject& root, Scene& scene) {
         !number(o, path, "stuck_ball_time", kRuleTime, &r.stuck_ball_time) ||
         !number(o, path, "crowded_area_time", kRuleTime, &r.crowded_area_time) ||
         !number(o, path, "free_ball_distance", kFreeBallDistance, &r.free_ball_distance) ||
-        !number(o, path, "tick", kGameTick, &r.tick) || !choice(o, path, "yellow", kTeamControls, &g.yellow) ||
+        !number(o, path, "tick", kGameTick, &r.tick) || !choice(o, path, "left_team", kTeams, &r.left_team) ||
+        !choice(o, path, "yellow", kTeamControls, &g.yellow) ||
         !choice(o, path, "blue", kTeamControls, &g.blue))
         return false;
     if (halves != std::floor(halves))
@@ -616,7 +617,8 @@ QJsonObject gameRulesToJson(const GameRules& r) {
             {"stuck_ball_time", r.stuck_ball_time},
             {"crowded_area_time", r.crowded_area_time},
             {"free_ball_distance", r.free_ball_distance},
-            {"tick", r.tick}};
+            {"tick", r.tick},
+            {"left_team", teamName(r.left_team)}};
 }
 QString fieldTypeName(FieldType type) { return nameOf(kFieldTypes, type); }
 std::optional<FieldType> fieldTypeFromName(const QString& name) { return valueOf(kFieldTypes, name); }
@@ -793,6 +795,13 @@ QString cameraPresetName(const CameraSettings& camera) {
 }
 
 QString cameraProjectionName(CameraProjection projection) { return nameOf(kProjections, projection); }
+
+bool sceneNamesLeftTeam(const QString& path) {
+    QFile file(path);
+    if (!file.open(QIODevice::ReadOnly)) return false;
+    const QJsonDocument doc = QJsonDocument::fromJson(file.readAll());
+    return doc.object().value("game").toObject().contains("left_team");
+}
 
 QStringList builtinSceneNames() {
     QStringList names;

@@ -96,6 +96,11 @@ std::optional<CameraSettings> cameraSettingsFromJson(const QJsonObject& camera, 
 QString cameraPresetName(const CameraSettings& camera);
 QString cameraProjectionName(CameraProjection projection);  // "orthographic", "pinhole"
 
+// Whether the scene file at `path` names its left team (game.left_team):
+// then a command line's own default (FIRASim's layout with --firasim) does
+// not replace it. False for a file that cannot be read or parsed.
+bool sceneNamesLeftTeam(const QString& path);
+
 // Names of the built-in example scenes, sorted.
 QStringList builtinSceneNames();
 

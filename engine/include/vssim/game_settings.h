@@ -7,6 +7,8 @@
 
 namespace vssim {
 
+enum class Team { Yellow, Blue };
+
 // Who drives a team's robots.
 enum class TeamControl {
     Idle,     // nobody: 0 V (the robots stand still unless pushed)
@@ -24,6 +26,11 @@ struct GameRules {
     double crowded_area_time = 3.0;    // two defenders / two attackers in a goal area this long -> foul, s
     double free_ball_distance = 0.20;  // the two robots at a free ball stand this far from it along x, m
     double tick = 0.01;                // the referee's and the built-in team's period, s (whole steps of dt)
+    // The team that defends the goal at x < 0 (the left end, seen from above
+    // with x to the right) and attacks the one at x > 0, for the whole match;
+    // the other team the other way round. vssim's own default is yellow;
+    // FIRASim's layout (and so `--firasim`'s default) is blue.
+    Team left_team = Team::Yellow;
 };
 
 struct GameSettings {

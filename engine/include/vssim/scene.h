@@ -16,8 +16,6 @@
 
 namespace vssim {
 
-enum class Team { Yellow, Blue };
-
 struct SimulationSettings {
     // The exact integrator by default: at the same step more accurate than RK4,
     // several times faster with its long steps, and stable for any motor

@@ -2,9 +2,10 @@
 // the timers of its rules (shared vsss-game.md, "Rules"). Plain data; the
 // referee (referee.h) updates it, a Match (match.h) owns it.
 //
-// Sides: the yellow team defends the goal at x < 0 and attacks the goal at
-// x > 0, the blue team the other way round, for the whole match (the teams
-// do not change ends at half time, so a client never has to flip its frame).
+// Sides: GameRules::left_team defends the goal at x < 0 and attacks the goal
+// at x > 0, the other team the other way round, for the whole match (the
+// teams do not change ends at half time, so a client never has to flip its
+// frame).
 #pragma once
 
 #include <array>
@@ -33,7 +34,9 @@ enum class Call {
     GoalKick,     // for `team`, the defender
 };
 
-// Quadrants 1-4 counter-clockwise from x > 0, y > 0 (0: none).
+// Quadrants 1-4 counter-clockwise from x > 0, y > 0 (0: none), as
+// VSSReferee numbers them: Q1 x > 0, y > 0; Q2 x <= 0, y > 0; Q3 x <= 0,
+// y <= 0; Q4 x > 0, y <= 0 (a ball on an axis goes left and down).
 int quadrantOf(double x, double y);
 
 struct RefereeCall {
@@ -72,8 +75,12 @@ struct GameState {
 
 inline int teamIndex(Team team) { return team == Team::Yellow ? 0 : 1; }
 inline Team otherTeam(Team team) { return team == Team::Yellow ? Team::Blue : Team::Yellow; }
-// The x sign of the goal a team defends: -1 for yellow (left), +1 for blue.
-inline double defendedSide(Team team) { return team == Team::Yellow ? -1.0 : 1.0; }
+// The x sign of the goal a team defends: -1 for rules.left_team, +1 for the other.
+inline double defendedSide(const GameRules& rules, Team team) { return team == rules.left_team ? -1.0 : 1.0; }
+// The team that defends the goal on `side` (the x sign of the goal: -1 or +1).
+inline Team teamDefending(const GameRules& rules, int side) {
+    return side < 0 ? rules.left_team : otherTeam(rules.left_team);
+}
 
 const char* gamePhaseName(GamePhase phase);
 const char* callName(Call call);

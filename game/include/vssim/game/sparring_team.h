@@ -17,9 +17,9 @@
 namespace vssim {
 
 // Voltages for every robot of `team` (entries of other robots are left as
-// they are), V.
+// they are), V. The team defends the goal rules.left_team says it does.
 void sparringVoltages(const WorldModel& model, const WorldState& state, const std::vector<Team>& teams,
-                      const GameState& game, Team team, std::vector<Voltages>& voltages);
+                      const GameRules& rules, const GameState& game, Team team, std::vector<Voltages>& voltages);
 
 // The voltages that drive a robot towards body velocity (v, w) (m/s, rad/s):
 // the steady-state inverse of the motor model (model.md eq. 7) plus a
