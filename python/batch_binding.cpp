@@ -8,8 +8,8 @@
 
 #include "io/scene_io.h"
 #include "placement_check.h"
+#include "py_batch_world.h"
 #include "scene_binding.h"
-#include "vssim/batch/batch_world.h"
 
 namespace py = pybind11;
 
@@ -46,7 +46,8 @@ void bindBatchWorld(py::module_& m) {
     py::class_<BatchWorld>(m, "BatchWorld", R"(n independent copies of one scene, stepped together in C++ on a pool
 of threads (threads=0: every core), each with its own inputs. World i is
 bit-identical to vssim.World(scene, seed=0 if seed == 0 else seed + i)
-given the same inputs, whatever the thread count.)")
+given the same inputs, whatever the thread count. Safe to call from
+several Python threads: each call waits for the one running.)")
         .def(py::init([](std::int64_t n, const py::object& scene, int threads, const py::object& seed) {
                  if (n < 1 || n > (1 << 24))
                      throw std::invalid_argument("n: expected 1 to 16777216 worlds, got " + std::to_string(n));
@@ -57,7 +58,7 @@ given the same inputs, whatever the thread count.)")
         .def_property_readonly("n_worlds", &BatchWorld::size)
         .def_property_readonly("n_robots", &BatchWorld::robots)
         .def_property_readonly("threads", &BatchWorld::threads)
-        .def_property_readonly("dt", [](const BatchWorld& b) { return b.match(0).simulation().dt(); },
+        .def_property_readonly("dt", &BatchWorld::dt,
                                "The step every world takes, s.")
         .def_property_readonly(
             "step_counts",
@@ -163,8 +164,7 @@ given the same inputs, whatever the thread count.)")
             "times",
             [](const BatchWorld& b) {
                 py::array_t<double> a(static_cast<py::ssize_t>(b.size()));
-                auto w = a.mutable_unchecked<1>();
-                for (int i = 0; i < b.size(); ++i) w(i) = b.match(i).simulation().state().time;
+                b.copyTimes(a.mutable_data());
                 return a;
             },
             "(n_worlds,): simulated time of each world, s.");

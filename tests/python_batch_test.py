@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """vssim.BatchWorld from Python (docs/python.md): n worlds stepped together
 on a pool of threads, each bit-identical to a vssim.World run alone with the
-same inputs, whatever the thread count; bad input raises.
+same inputs, whatever the thread count; bad input raises; several Python
+threads may call one BatchWorld at once (each call waits for the one running).
 
 Run by ctest with PYTHONPATH=<build>/python; by hand:
     PYTHONPATH=build/python /usr/bin/python3 tests/python_batch_test.py
 """
 
+import threading
 import unittest
 
 import numpy as np
@@ -209,6 +211,100 @@ class TestBatchWorld(unittest.TestCase):
         # Still usable after all of that.
         batch.set_voltages(np.ones((2, 6, 2)))
         self.assertGreater(batch.step(0.03), 0)
+
+
+class TestBatchWorldFromSeveralThreads(unittest.TestCase):
+    """One thread steps while another resets, places, commands and reads: each
+    call waits for the one running (the GIL is released in step and
+    reset_all), so nothing crashes and no read shows a half-taken step."""
+
+    STEPS = 1000  # step(0.05) calls of the stepping thread: 50 steps of 1 ms each
+
+    def run_alongside(self, batch, other):
+        """Runs other() over and over while a second thread steps `batch` STEPS
+        times; returns how many times other() ran (at least once)."""
+        done = threading.Event()
+        failure = []
+
+        def stepper():
+            try:
+                for _ in range(self.STEPS):
+                    self.assertEqual(batch.step(0.05), 50)
+            except BaseException as e:  # reported by the main thread
+                failure.append(e)
+            finally:
+                done.set()
+
+        t = threading.Thread(target=stepper)
+        t.start()
+        calls = 0
+        try:
+            while not done.is_set() or calls == 0:
+                other()
+                calls += 1
+        finally:
+            done.wait()
+            t.join()
+        if failure:
+            raise failure[0]
+        return calls
+
+    def test_reset_place_command_and_read_while_another_thread_steps(self):
+        n = 4
+        batch = vssim.BatchWorld(n, remote_match(), threads=2)
+        zeros = np.zeros((n, batch.n_robots, 2))
+        fresh = vssim.World(remote_match())
+        k = [0]
+
+        def other():
+            i = 1 + k[0] % (n - 1)  # world 0 is left to the stepping thread alone
+            k[0] += 1
+            batch.reset(i)
+            batch.place_robot(i, 2, 0.1, -0.2, 1.0, v=0.3)
+            batch.place_ball(i, -0.3, 0.25, vx=1.5)
+            batch.set_voltages(zeros)  # 0 V: what every robot has anyway
+            batch.set_wheel_speeds(zeros)
+            steps = batch.step_counts
+            times = batch.times
+            robots, balls, wheels = batch.robots, batch.balls, batch.wheel_speeds
+            # Whole steps of 0.05 s only: never a world caught in the middle of one.
+            self.assertTrue(np.all(steps % 50 == 0), steps)
+            np.testing.assert_allclose(np.round(times / 0.05) * 0.05, times, rtol=0, atol=1e-9)
+            self.assertTrue(np.all(np.isfinite(robots)) and np.all(np.isfinite(balls)) and np.all(np.isfinite(wheels)))
+            self.assertEqual(batch.scores.shape, (n, 2))
+            self.assertEqual(batch.dt, 0.001)
+
+        self.assertGreater(self.run_alongside(batch, other), 0)
+        # World 0 was only stepped (at 0 V): the lone World stepped as often, bit for bit.
+        world = vssim.World(remote_match())
+        for _ in range(self.STEPS):
+            world.step(0.05)
+        self.assertEqual(batch.step_counts[0], 50 * self.STEPS)
+        self.assertTrue(np.array_equal(batch.robots[0], world.robots))
+        self.assertTrue(np.array_equal(batch.balls[0], world.ball))
+        # With no step running, a reset world is exactly the scene's start.
+        for i in range(n):
+            batch.reset(i)
+            self.assertTrue(np.array_equal(batch.robots[i], fresh.robots))
+            self.assertTrue(np.array_equal(batch.balls[i], fresh.ball))
+            self.assertEqual(batch.step_counts[i], 0)
+
+    def test_reset_all_while_another_thread_steps(self):
+        # Every world is reset and stepped together, so every read finds them
+        # all on the same whole step of 0.05 s.
+        batch = vssim.BatchWorld(6, remote_match(), threads=2)
+
+        def other():
+            batch.reset_all()
+            for steps in (batch.step_counts, np.round(batch.times / batch.dt).astype(np.int64)):
+                self.assertTrue(np.all(steps == steps[0]), steps)
+                self.assertEqual(steps[0] % 50, 0)
+
+        self.assertGreater(self.run_alongside(batch, other), 0)
+        batch.reset_all()
+        fresh = vssim.World(remote_match())
+        for i in range(6):
+            self.assertTrue(np.array_equal(batch.robots[i], fresh.robots))
 
 
 if __name__ == "__main__":

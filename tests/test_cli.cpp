@@ -2,12 +2,14 @@
 // of bad input giving a clear message, a non-zero exit and no output file.
 #include <QtTest>
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <unistd.h>
 #include <Eigen/Eigenvalues>
 #include <QTemporaryDir>
 #include <cerrno>
+#include <climits>
 
 #include "io/scene_io.h"
 #include "run_vssim.h"
@@ -76,6 +78,8 @@ private slots:
     void outFollowsSymbolicLinks();
     void writeFailuresExitOne();
     void outToStandardOutputByName();
+    void outLeavesNoTemporaryWhenKilled();
+    void outRemovesTemporariesOfDeadRuns();
     void stopsOnANonFiniteState();
     void sceneThatIsNotAFile();
     void runPlaysTheScenesGame();
@@ -489,6 +493,81 @@ void TestCli::outToStandardOutputByName() {
     QVERIFY2(r.exitCode == 0, r.err.constData());
     QVERIFY(r.out.startsWith("t,body,x,y,theta"));
     QVERIFY(r.out.count('\n') > 10);
+}
+
+// The bytes a process has written so far to a file it holds open in `dir`
+// (through /proc: the file may have no name), or -1 when it holds none.
+qint64 bytesWrittenInto(qint64 pid, const QString& dir) {
+    const QString fds = QStringLiteral("/proc/%1/fd").arg(pid);
+    for (const QString& fd : QDir(fds).entryList(QDir::AllEntries | QDir::System | QDir::NoDotAndDotDot)) {
+        const QByteArray path = QFile::encodeName(fds + "/" + fd);
+        char target[PATH_MAX];
+        const ssize_t n = ::readlink(path.constData(), target, sizeof target);
+        if (n <= 0 || !QByteArray(target, static_cast<int>(n)).startsWith(QFile::encodeName(dir) + "/")) continue;
+        struct stat st {};
+        if (::stat(path.constData(), &st) == 0 && S_ISREG(st.st_mode)) return st.st_size;
+    }
+    return -1;
+}
+
+void TestCli::outLeavesNoTemporaryWhenKilled() {
+    // A run killed with SIGKILL (no clean-up runs) while it writes: the old
+    // file is as it was, and nothing else is left in its folder (its partial
+    // CSV used to stay for ever as run.csv.vssim-PID-0).
+    QTemporaryDir dir;
+    const QString out = dir.filePath("run.csv");
+    writeFile(out, "old\n");
+    QProcess p;
+    p.start(VSSIM_BINARY, {"run", "kickoff_3v3", "--duration", "100000", "--out", out});
+    QVERIFY(p.waitForStarted());
+    const qint64 pid = p.processId();
+    const auto stop = qScopeGuard([&] {
+        p.kill();
+        p.waitForFinished();
+    });
+    // Until some of the CSV is in the file being written.
+    QVERIFY2(QTest::qWaitFor([&] { return bytesWrittenInto(pid, QDir(dir.path()).canonicalPath()) > 0; }, 60000),
+             "the run wrote nothing");
+    QCOMPARE(::kill(static_cast<pid_t>(pid), SIGKILL), 0);
+    QVERIFY(p.waitForFinished(10000));
+    QCOMPARE(p.exitStatus(), QProcess::CrashExit);
+    QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::System | QDir::Hidden | QDir::NoDotAndDotDot),
+             QStringList{"run.csv"});
+    QCOMPARE(readAll(out), QByteArray("old\n"));
+}
+
+void TestCli::outRemovesTemporariesOfDeadRuns() {
+    // Temporaries that runs killed before this change left beside the
+    // target (or that a run killed while it renames leaves): the next run
+    // into the same file removes those of processes that no longer exist,
+    // and never one of a living process (which may be about to rename it).
+    QProcess gone;
+    gone.start("true", QStringList());
+    QVERIFY(gone.waitForStarted());
+    const QString dead = QString::number(gone.processId());
+    QVERIFY(gone.waitForFinished());
+    const QString alive = QString::number(::getpid());
+    QTemporaryDir dir;
+    const QString out = dir.filePath("run.csv");
+    const QStringList removed = {"run.csv.vssim-" + dead + "-0", "run.csv.vssim-" + dead + "-12"};
+    const QStringList kept = {"run.csv.vssim-" + alive + "-0",        // a living process's
+                              "other.csv.vssim-" + dead + "-0",       // another file's
+                              "run.csv.vssim-" + dead + "-0.keep",    // not a temporary's name
+                              "run.csv.vssim-" + dead + "-",          // nor this
+                              "run.csv.vssim-x" + dead + "-0",        // nor this
+                              "run.csv.vssim-99999999999-0",         // no process id
+                              "run.csv"};
+    for (const QString& name : removed + kept) writeFile(dir.filePath(name), "partial\n");
+    const Result r = runVssim({"run", "ball_walls", "--duration", "0.01", "--out", out});
+    QCOMPARE(r.exitCode, 0);
+    QStringList expected = kept, left = QDir(dir.path()).entryList(QDir::AllEntries | QDir::System | QDir::Hidden |
+                                                                    QDir::NoDotAndDotDot);
+    expected.sort();
+    left.sort();
+    QCOMPARE(left, expected);
+    QVERIFY(readAll(out).startsWith(kHeader));
+    // A temporary of a living process stays even when it is the target's only company.
+    QCOMPARE(readAll(dir.filePath("run.csv.vssim-" + alive + "-0")), QByteArray("partial\n"));
 }
 
 void TestCli::writeFailuresExitOne() {

@@ -9,10 +9,12 @@
 #include <QSignalSpy>
 #include <QtTest>
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -173,6 +175,78 @@ private:
     std::thread thread_;
     std::atomic<bool> stop_{false};
     std::atomic<std::int64_t> sent_{0};
+};
+
+// Qt's warnings while one lives (e.g. "QIODevice::write (QTcpSocket): device
+// not open", a write to a closed socket), each also passed on to the handler
+// it replaced. One at a time; for the main thread (Qt's warnings come from any).
+class WarningRecorder {
+public:
+    WarningRecorder() : previous_(qInstallMessageHandler(&WarningRecorder::handle)) { current_ = this; }
+    ~WarningRecorder() {
+        qInstallMessageHandler(previous_);
+        current_ = nullptr;
+    }
+    WarningRecorder(const WarningRecorder&) = delete;
+    WarningRecorder& operator=(const WarningRecorder&) = delete;
+    QStringList warnings() const {
+        std::lock_guard lock(mutex_);
+        return warnings_;
+    }
+
+private:
+    static void handle(QtMsgType type, const QMessageLogContext& context, const QString& message) {
+        WarningRecorder* self = current_;
+        if (self && type == QtWarningMsg) {
+            std::lock_guard lock(self->mutex_);
+            self->warnings_ << message;
+        }
+        if (self && self->previous_) self->previous_(type, context, message);
+    }
+    static inline std::atomic<WarningRecorder*> current_{nullptr};
+    QtMessageHandler previous_;
+    mutable std::mutex mutex_;
+    QStringList warnings_;
+};
+
+// A client of a plain socket that says `hello` and then reads nothing:
+// close() then resets the connection (its unread bytes are thrown away, and
+// with `reset` the linger of 0 sends a reset at once) instead of ending it.
+class RawClient {
+public:
+    RawClient(quint16 port, const QByteArray& hello) {
+        fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_port = htons(port);
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        if (::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
+            ::send(fd_, hello.constData(), static_cast<size_t>(hello.size()), MSG_NOSIGNAL) != hello.size()) {
+            ::close(fd_);
+            fd_ = -1;
+        }
+    }
+    ~RawClient() { close(false); }
+    RawClient(const RawClient&) = delete;
+    RawClient& operator=(const RawClient&) = delete;
+    bool connected() const { return fd_ >= 0; }
+    // Whether some of the server's bytes have arrived (waits up to `ms`).
+    bool receivedSome(int ms) const {
+        pollfd p{fd_, POLLIN, 0};
+        return ::poll(&p, 1, ms) == 1;
+    }
+    void close(bool reset) {
+        if (fd_ < 0) return;
+        if (reset) {
+            const linger hard{1, 0};
+            ::setsockopt(fd_, SOL_SOCKET, SO_LINGER, &hard, sizeof hard);
+        }
+        ::close(fd_);
+        fd_ = -1;
+    }
+
+private:
+    int fd_ = -1;
 };
 
 // This process's resident memory, MiB (Linux).
@@ -1370,6 +1444,46 @@ private slots:
         QVERIFY2(!served.log.filter("%1%2\"): ").isEmpty(), qPrintable(served.log.join('\n')));
         QVERIFY(!served.log.filter("unknown key").isEmpty());
         QVERIFY(!served.log.filter("unknown_command").isEmpty());
+    }
+
+    void droppedClientsAreNeverWrittenTo() {
+        // Clients taking every full frame and STATE read nothing, so the
+        // server holds unsent bytes for each, and then go away, their
+        // connections reset (unread bytes, or a linger of 0). The engine's
+        // next frames reach the server before it reads of the resets (its
+        // event loop is kept busy meanwhile): its flush then fails and Qt
+        // closes the socket, and nothing may be written to it after that (Qt
+        // warned "QIODevice::write (QTcpSocket): device not open" for each
+        // message the server still wrote: the frame, the STATE, a REPLY).
+        WarningRecorder recorder;
+        Served served(kickoff(), RunMode::Realtime);
+        const QByteArray observer =
+            protocol::encodeJsonMessage(MessageType::Hello, helloJson("observer", "full", "raw", true));
+        const QByteArray team = protocol::encodeJsonMessage(MessageType::Hello, helloJson("yellow", "full", "raw", true));
+        int connections = 0;
+        for (int round = 0; round < 4; ++round) {
+            std::vector<std::unique_ptr<RawClient>> clients;
+            for (int i = 0; i < 4; ++i)
+                clients.push_back(std::make_unique<RawClient>(served.port(), i == 0 ? team : observer));
+            for (const auto& c : clients) QVERIFY(c->connected());
+            connections += static_cast<int>(clients.size());
+            // Until the server holds unsent bytes for each.
+            QVERIFY(QTest::qWaitFor(
+                [&] {
+                    const std::vector<ClientInfo> info = served.server->clients();
+                    return info.size() == clients.size() &&
+                           std::all_of(info.begin(), info.end(), [](const ClientInfo& c) { return c.unsentBytes > 0; });
+                },
+                20000));
+            for (std::size_t i = 0; i < clients.size(); ++i) clients[i]->close(i % 2 == 0);
+            QThread::msleep(200);  // frames queue up for the server meanwhile
+            QVERIFY2(QTest::qWaitFor([&] { return served.server->clientCount() == 0; }, 10000),
+                     qPrintable(served.log.join('\n')));
+        }
+        QTest::qWait(100);
+        QCOMPARE(served.log.filter(QRegularExpression(": disconnected( \\(.*)?$")).size(), connections);
+        const QStringList warnings = recorder.warnings();
+        QVERIFY2(warnings.filter("not open").isEmpty(), qPrintable(warnings.join('\n')));
     }
 
     void aVoltagesFlooderDoesNotStallFrames() {

@@ -1,6 +1,8 @@
 #include "io/output_file.h"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cerrno>
@@ -40,6 +42,74 @@ bool followLinks(QByteArray path, QByteArray* out, int* errorNumber) {
     }
     *errorNumber = ELOOP;
     return false;
+}
+
+// The name a temporary file of `target` has (made by process `pid`, its
+// attempt-th try): TARGET.vssim-PID-N, in the target's folder.
+QByteArray temporaryName(const QByteArray& target, pid_t pid, int attempt) {
+    return target + ".vssim-" + QByteArray::number(pid) + "-" + QByteArray::number(attempt);
+}
+
+// Reads the digits of `text` from *at: false unless there is at least one
+// and the number fits `limit`.
+bool readNumber(const char* text, std::size_t* at, long long limit, long long* value) {
+    const std::size_t start = *at;
+    long long n = 0;
+    for (; text[*at] >= '0' && text[*at] <= '9'; ++*at) {
+        n = 10 * n + (text[*at] - '0');
+        if (n > limit) return false;
+    }
+    *value = n;
+    return *at > start;
+}
+
+// Removes the temporary files of `target` (TARGET.vssim-PID-N, regular
+// files) whose process no longer exists: a run killed before it renamed its
+// temporary file over the target. A process that exists, or whose existence
+// cannot be told (kill(pid, 0) other than "no such process"), keeps its
+// own, which it may be about to rename. Failures are ignored: the run goes
+// on whatever is left.
+void removeStaleTemporaries(const QByteArray& target) {
+    const qsizetype slash = target.lastIndexOf('/');
+    const QByteArray folder = slash < 0 ? QByteArray(".") : target.left(slash + 1);
+    const QByteArray prefix = target.mid(slash + 1) + ".vssim-";
+    DIR* dir = ::opendir(folder.constData());
+    if (!dir) return;
+    const int dirFd = ::dirfd(dir);
+    while (const dirent* entry = ::readdir(dir)) {
+        const char* name = entry->d_name;
+        if (std::strncmp(name, prefix.constData(), static_cast<std::size_t>(prefix.size())) != 0) continue;
+        std::size_t at = static_cast<std::size_t>(prefix.size());
+        long long pid = 0, attempt = 0;
+        if (!readNumber(name, &at, INT_MAX, &pid) || pid < 1 || name[at++] != '-' ||
+            !readNumber(name, &at, INT_MAX, &attempt) || name[at] != '\0')
+            continue;
+        if (pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+        struct stat st;
+        if (::fstatat(dirFd, name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(st.st_mode))
+            ::unlinkat(dirFd, name, 0);
+    }
+    ::closedir(dir);
+}
+
+// A file with no name in the folder of `target` (O_TMPFILE), writable, or -1
+// when the system cannot make one or could not give it a name later: commit()
+// names it through /proc/self/fd, which must lead to it.
+int openUnnamed(const QByteArray& target) {
+#ifdef O_TMPFILE
+    const qsizetype slash = target.lastIndexOf('/');
+    const QByteArray folder = slash < 0 ? QByteArray(".") : slash == 0 ? QByteArray("/") : target.left(slash);
+    const int fd = ::open(folder.constData(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (fd < 0) return -1;
+    struct stat byFd, byProc;
+    if (::fstat(fd, &byFd) == 0 && ::stat(("/proc/self/fd/" + QByteArray::number(fd)).constData(), &byProc) == 0 &&
+        byFd.st_dev == byProc.st_dev && byFd.st_ino == byProc.st_ino)
+        return fd;
+    ::close(fd);
+#else
+    (void)target;
+#endif
+    return -1;
 }
 
 }  // namespace
@@ -88,24 +158,29 @@ std::unique_ptr<OutputFile> OutputFile::open(const QString& path, QString* error
         if (fd < 0) return fail(errno);
         file.reset(new OutputFile(fd, true, path));
     } else {
-        // A new file beside the target, with the target's permissions (a new
-        // target: 0666 less the umask, as any created file).
+        removeStaleTemporaries(target);
+        // A new file beside the target, with no name if it may be (see
+        // output_file.h), else named, and with the target's permissions (a
+        // new target: 0666 less the umask, as any created file).
+        if (const int fd = openUnnamed(target); fd >= 0) {
+            file.reset(new OutputFile(fd, true, path));
+            file->unnamed_ = true;
+        }
         for (int attempt = 0; attempt < kTemporaryNameAttempts && !file; ++attempt) {
-            const QByteArray temporary =
-                target + ".vssim-" + QByteArray::number(::getpid()) + "-" + QByteArray::number(attempt);
+            const QByteArray temporary = temporaryName(target, ::getpid(), attempt);
             const int fd = ::open(temporary.constData(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
             if (fd < 0 && errno == EEXIST) continue;
             if (fd < 0) return fail(errno, QStringLiteral("cannot create a temporary file beside it: "));
             file.reset(new OutputFile(fd, true, path));
             file->temporary_ = temporary;
-            if (exists) {
-                // Keep the owner where we may (root writing a user's file) and the mode.
-                // (Not permitted for others: then the new file is ours, as with any rewrite by rename.)
-                if (::fchown(fd, st.st_uid, st.st_gid) != 0 && errno != EPERM) return fail(errno);
-                if (::fchmod(fd, st.st_mode & 07777) != 0) return fail(errno);
-            }
         }
         if (!file) return fail(EEXIST, QStringLiteral("cannot create a temporary file beside it: "));
+        if (exists) {
+            // Keep the owner where we may (root writing a user's file) and the mode.
+            // (Not permitted for others: then the new file is ours, as with any rewrite by rename.)
+            if (::fchown(file->fd_, st.st_uid, st.st_gid) != 0 && errno != EPERM) return fail(errno);
+            if (::fchmod(file->fd_, st.st_mode & 07777) != 0) return fail(errno);
+        }
     }
     file->target_ = target;
     return file;
@@ -143,7 +218,21 @@ bool OutputFile::commit() {
     if (!error_.isEmpty()) return false;
     if (!owned_) return true;  // standard output: written as it went
     // A file system may report a full disk only when the data reach it.
-    if (!temporary_.isEmpty() && ::fsync(fd_) != 0) return failWith(errno);
+    if (!inPlace() && ::fsync(fd_) != 0) return failWith(errno);
+    if (unnamed_) {
+        // A name of its own first (linkat cannot replace the target), while
+        // the descriptor still holds it.
+        const QByteArray self = "/proc/self/fd/" + QByteArray::number(fd_);
+        for (int attempt = 0; attempt < kTemporaryNameAttempts && temporary_.isEmpty(); ++attempt) {
+            const QByteArray temporary = temporaryName(target_, ::getpid(), attempt);
+            if (::linkat(AT_FDCWD, self.constData(), AT_FDCWD, temporary.constData(), AT_SYMLINK_FOLLOW) == 0)
+                temporary_ = temporary;
+            else if (errno != EEXIST)
+                return failWith(errno);
+        }
+        if (temporary_.isEmpty()) return failWith(EEXIST);
+        unnamed_ = false;
+    }
     const int fd = fd_;
     fd_ = -1;
     if (::close(fd) != 0) return failWith(errno);

@@ -4,7 +4,14 @@
 // A named file is written so that nothing but its content changes:
 // - a regular file with a single link (or a new file) is written to a
 //   temporary file beside it and renamed over it by commit(), so a run that
-//   fails leaves the old file as it was;
+//   fails leaves the old file as it was. The temporary file has no name
+//   while it is written (Linux's O_TMPFILE, in the target's folder), so a
+//   process killed outright (SIGKILL) leaves nothing behind; commit() links
+//   it in as TARGET.vssim-PID-N and renames that over the target. Where the
+//   file system or a missing /proc rule that out, the temporary file is named
+//   TARGET.vssim-PID-N from the start. Either way, open() first removes the
+//   TARGET.vssim-PID-N files of processes that no longer exist (killed
+//   before their rename); a living process's are never touched;
 // - anything else is written in place, since renaming over it would replace
 //   it: a device (a null device would become a plain file), a FIFO, a regular
 //   file with other hard links (each link must see the new content);
@@ -48,7 +55,7 @@ public:
     // The system's reason for the first failure ("No space left on device").
     const QString& error() const { return error_; }
     // Whether the content goes straight to the target (see above).
-    bool inPlace() const { return temporary_.isEmpty(); }
+    bool inPlace() const { return !unnamed_ && temporary_.isEmpty(); }
 
 private:
     OutputFile(int fd, bool owned, QString name) : fd_(fd), owned_(owned), name_(std::move(name)) {}
@@ -58,7 +65,8 @@ private:
     bool owned_;            // close fd_ when done
     QString name_;          // as given
     QByteArray target_;     // the final path, symbolic links followed (named files only)
-    QByteArray temporary_;  // the file renamed over target_ by commit(); empty when in place
+    bool unnamed_ = false;  // fd_ is a file with no name yet (O_TMPFILE), linked in by commit()
+    QByteArray temporary_;  // the named file renamed over target_ by commit(); empty when in place or unnamed
     QString error_;
 };
 

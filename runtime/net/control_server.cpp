@@ -733,6 +733,11 @@ void ControlServer::sendNewest(Client& client, QByteArray frame, QByteArray stat
 
 void ControlServer::flushPending(Client& client) {
     if (client.closing || !waiting(client) || holdsFrames(client)) return;
+    // holdsFrames() may have flushed the socket: a failed write (the client
+    // reset the connection) makes Qt abort it, whose disconnected() marked the
+    // client closing, and with its buffer gone it holds nothing. The socket is
+    // closed then: nothing more may be written to it.
+    if (client.closing) return;
     const QByteArray before = std::exchange(client.heldBefore, {}), frame = std::exchange(client.pendingFrame, {}),
                      state = std::exchange(client.pendingState, {}), after = std::exchange(client.heldAfter, {});
     if (!fits(client, before.size() + frame.size() + state.size() + after.size())) return;
