@@ -119,6 +119,7 @@ private slots:
     void automaticPlacementIsLegal_data();
     void automaticPlacementIsLegal();
     void illegalPlacementsAreNamed();
+    void firaClientsKickOffPlacementIsLegalInFirasimsLayout();
     void goalInAMatchCountsOnceAndKicksOff();
     void goalsFollowTheLeftTeam();
     void ballOffAPostIsNoGoal();
@@ -477,6 +478,35 @@ void TestGame::illegalPlacementsAreNamed() {
     QCOMPARE(check(freeBall, Team::Yellow), QString());
     p.robots[2] = RobotState{p.ball.x - 0.15, p.ball.y, 0.0, 0.0, 0.0};
     QVERIFY2(check(freeBall, Team::Yellow).contains("free-ball distance"), qPrintable(check(freeBall, Team::Yellow)));
+}
+
+void TestGame::firaClientsKickOffPlacementIsLegalInFirasimsLayout() {
+    // The league's sample client (FIRAClient) plays yellow on the right and
+    // places its robots at (0.2, 0), (0.2, 0.2), (0.2, -0.2), heading 0, at
+    // every kick-off. With blue on the left (FIRASim's layout) that is
+    // yellow's own half, for either team's kick-off; with yellow on the left
+    // it is not, and the referee says why.
+    for (Team left : {Team::Blue, Team::Yellow}) {
+        const Scene scene = gameScene(TeamControl::Idle, TeamControl::Idle, FieldType::Vsss3v3, 3, left);
+        const WorldModel model = makeWorldModel(scene);
+        const std::vector<Team> teams = robotTeams(scene);
+        const GameState game = initialGameState(scene.game.rules, teams.size());
+        for (Team kicker : {Team::Yellow, Team::Blue}) {
+            RefereeCall kickoff;
+            kickoff.call = Call::KickOff;
+            kickoff.team = kicker;
+            Placement p = automaticPlacement(model, initialWorldState(scene), teams, game, scene.game.rules, kickoff);
+            p.robots[0] = RobotState{0.2, 0.0, 0.0, 0.0, 0.0};
+            p.robots[1] = RobotState{0.2, 0.2, 0.0, 0.0, 0.0};
+            p.robots[2] = RobotState{0.2, -0.2, 0.0, 0.0, 0.0};
+            const std::string why =
+                checkTeamPlacement(model, teams, namesOf(scene), scene.game.rules, kickoff, Team::Yellow, p);
+            if (left == Team::Blue)
+                QVERIFY2(why.empty(), why.c_str());
+            else
+                QVERIFY2(why.find("not wholly in its own half") != std::string::npos, why.c_str());
+        }
+    }
 }
 
 // ---------------------------------------------------------------- the match
