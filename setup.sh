@@ -23,7 +23,7 @@ packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev
           libqt6opengl6-dev libsdl2-dev xvfb xauth
           libprotobuf-dev protobuf-compiler python3-protobuf python3-distributed
           libbox2d-dev zlib1g-dev
-          dpkg-dev file desktop-file-utils)
+          dpkg-dev file desktop-file-utils iproute2)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -61,6 +61,25 @@ KEEPER_SCENE = {
 }
 
 
+def relayed_vision(server, relay_port, example, deadline):
+    """Each Environment the server sends while the example runs (until
+    `deadline`, monotonic s), after relaying its datagram, unchanged, to the
+    example's vision port."""
+    relay = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        while example.poll() is None and time.monotonic() < deadline:
+            ready, _, _ = select.select([server.vision], [], [], 0.1)
+            if not ready:
+                continue
+            data = server.vision.recv(65536)
+            relay.sendto(data, ("127.0.0.1", relay_port))
+            e = fira.Environment()
+            e.ParseFromString(data)
+            yield e
+    finally:
+        relay.close()
+
+
 class ExampleRun(unittest.TestCase):
     def test_go_to_ball_pushes_the_ball_towards_the_goal(self):
         tmp = tempfile.TemporaryDirectory()
@@ -84,25 +103,14 @@ class ExampleRun(unittest.TestCase):
              "--proto-dir", common.PROTO_DIR],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)
         self.addCleanup(lambda: example.poll() is None and example.kill())
-        relay = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.addCleanup(relay.close)
-
         closest = math.inf   # robot centre to ball centre, m
         touched_at = None
         ball_x_max = ball0.x
         last = first
         packets = 0
         stopped = None       # the step at which the example was stopped
-        deadline = time.monotonic() + WALL_SECONDS + 10.0
         started = time.monotonic() - first.step * 0.001 / SPEED
-        while example.poll() is None and time.monotonic() < deadline:
-            ready, _, _ = select.select([server.vision], [], [], 0.1)
-            if not ready:
-                continue
-            data = server.vision.recv(65536)
-            relay.sendto(data, ("127.0.0.1", relay_port))
-            e = fira.Environment()
-            e.ParseFromString(data)
+        for e in relayed_vision(server, relay_port, example, time.monotonic() + WALL_SECONDS + 10.0):
             packets += 1
             last = e
             r = common.find_robot(e, False, 0)
@@ -160,21 +168,11 @@ class ExampleRun(unittest.TestCase):
              "--proto-dir", common.PROTO_DIR],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         self.addCleanup(lambda: example.poll() is None and example.kill())
-        relay = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.addCleanup(relay.close)
         goals = []        # (scorer, ball x in the last vision before the score changed)
         score = (0, 0)    # blue, yellow
         ball_x = 0.0
         ball_z = None
-        deadline = time.monotonic() + MATCH_WALL_SECONDS + 10.0
-        while example.poll() is None and time.monotonic() < deadline:
-            ready, _, _ = select.select([server.vision], [], [], 0.1)
-            if not ready:
-                continue
-            data = server.vision.recv(65536)
-            relay.sendto(data, ("127.0.0.1", relay_port))
-            e = fira.Environment()
-            e.ParseFromString(data)
+        for e in relayed_vision(server, relay_port, example, time.monotonic() + MATCH_WALL_SECONDS + 10.0):
             if e.frame.HasField("ball"):
                 ball_z = e.frame.ball.z
             now = (e.goals_blue, e.goals_yellow)
