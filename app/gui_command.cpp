@@ -10,7 +10,7 @@
 #include <cstdlib>
 
 #include "display.h"
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 #include "io/scene_io.h"
 #include "main_window.h"
 #include "net/network_address.h"

@@ -14,7 +14,7 @@
 
 #include "firasim/firasim_server.h"
 #include "firasim/vssref_bridge.h"
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 #include "io/scene_io.h"
 #include "net/control_server.h"
 #include "net/network_address.h"

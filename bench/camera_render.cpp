@@ -16,8 +16,8 @@
 #include "bench_scenes.h"
 #include "bench_timing.h"
 #include "benchmarks.h"
-#include "camera/camera_renderer.h"
-#include "camera/image_codec.h"
+#include "vssim/camera/camera_renderer.h"
+#include "vssim/camera/image_codec.h"
 #include "vssim/world.h"
 
 namespace vssim::bench {

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 #include "placement_check.h"
 #include "realtime/simulation_fault.h"
 

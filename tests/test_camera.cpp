@@ -10,12 +10,12 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "camera/field_background.h"
+#include "vssim/camera/field_background.h"
 
-#include "camera/camera_geometry.h"
-#include "camera/camera_renderer.h"
-#include "camera/image_codec.h"
-#include "camera/image_patches.h"
+#include "vssim/camera/camera_geometry.h"
+#include "vssim/camera/camera_renderer.h"
+#include "vssim/camera/image_codec.h"
+#include "vssim/camera/image_patches.h"
 #include "io/scene_io.h"
 #include "camera_image_checks.h"
 #include "test_support.h"

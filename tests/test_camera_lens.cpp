@@ -12,9 +12,9 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "camera/camera_lens.h"
-#include "camera/camera_renderer.h"
-#include "camera/image_patches.h"
+#include "vssim/camera/camera_lens.h"
+#include "vssim/camera/camera_renderer.h"
+#include "vssim/camera/image_patches.h"
 #include "camera_image_checks.h"
 #include "test_support.h"
 

@@ -19,7 +19,7 @@
 #include <cmath>
 #include <tuple>
 
-#include "camera/camera_colours.h"
+#include "vssim/camera/camera_colours.h"
 #include "field_view.h"
 #include "io/scene_io.h"
 #include "main_window.h"

@@ -26,9 +26,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "camera/camera_renderer.h"
-#include "camera/image_codec.h"
-#include "camera/image_patches.h"
+#include "vssim/camera/camera_renderer.h"
+#include "vssim/camera/image_codec.h"
+#include "vssim/camera/image_patches.h"
 #include "io/scene_io.h"
 #include "net/control_server.h"
 #include "net/protocol_client.h"

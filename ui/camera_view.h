@@ -12,7 +12,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 #include "realtime/snapshot.h"
 
 class QComboBox;

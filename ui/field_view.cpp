@@ -9,8 +9,8 @@
 #include <cmath>
 #include <optional>
 
-#include "camera/camera_colours.h"
-#include "camera/camera_layout.h"
+#include "vssim/camera/camera_colours.h"
+#include "vssim/camera/camera_layout.h"
 #include "realtime/engine_request.h"
 #include "vssim/field.h"
 #include "vssim/geometry.h"

@@ -5,7 +5,7 @@
 #include <QTimer>
 #include <deque>
 
-#include "camera/camera_lens.h"
+#include "vssim/camera/camera_lens.h"
 #include "delivery/frame_delivery.h"
 #include "delivery/ground_truth_noise.h"
 #include "io/scene_io.h"

@@ -40,7 +40,7 @@
 #include <map>
 #include <memory>
 
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 #include "net/client_requests.h"
 #include "realtime/engine_thread.h"
 #include "realtime/sample_stats.h"

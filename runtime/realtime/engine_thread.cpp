@@ -3,7 +3,7 @@
 #include <QJsonArray>
 #include <chrono>
 
-#include "camera/image_patches.h"
+#include "vssim/camera/image_patches.h"
 #include "realtime/monotonic_clock.h"
 #include "wire/game_message.h"
 #include "wire/state_message.h"

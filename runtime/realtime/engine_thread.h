@@ -17,7 +17,7 @@
 #include <optional>
 #include <vector>
 
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 #include "realtime/engine_loop.h"
 #include "realtime/frame_encoder.h"
 #include "realtime/instant_record.h"

@@ -1,6 +1,6 @@
 #include "realtime/frame_encoder.h"
 
-#include "camera/image_codec.h"
+#include "vssim/camera/image_codec.h"
 #include "realtime/monotonic_clock.h"
 #include "wire/protocol.h"
 

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "camera/image_codec.h"
+#include "vssim/camera/image_codec.h"
 #include "wire/protocol.h"
 
 namespace vssim {

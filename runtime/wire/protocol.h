@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "camera/image_codec.h"
+#include "vssim/camera/image_codec.h"
 #include "vssim/robot_state.h"
 #include "vssim/speed_controller.h"
 

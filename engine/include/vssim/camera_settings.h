@@ -2,7 +2,7 @@
 // "The camera"; docs/scenes.md, `camera`). Plain data kept with the scene, as
 // the game's rules are, so that every way of running one (vssim serve, the
 // desktop app, the Python world) shows the same camera; the physics ignores
-// it. The camera itself is in the runtime (runtime/camera/).
+// it. The camera itself is its own library (camera/).
 //
 // Three stages, each off in the ideal camera (the default, today's image):
 // - image formation, one per scene (every client sees the same image):

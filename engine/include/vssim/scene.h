@@ -64,7 +64,7 @@ struct Scene {
     std::vector<RobotSpec> robots;
     std::vector<VoltageCommand> commands;  // any order; applied in time order, ties in file order
     GameSettings game;                     // the referee's rules and the teams' controllers (game/)
-    CameraSettings camera;                 // the overhead camera (runtime/camera/); ideal by default
+    CameraSettings camera;                 // the overhead camera (camera/); ideal by default
 };
 
 }  // namespace vssim

@@ -18,7 +18,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "camera/camera_lens.h"
+#include "vssim/camera/camera_lens.h"
 #include "vssim/camera_settings.h"
 
 namespace vssim {

@@ -1,4 +1,4 @@
-#include "camera/motion_blur.h"
+#include "vssim/camera/motion_blur.h"
 
 #include <cmath>
 

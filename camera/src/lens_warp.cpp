@@ -1,4 +1,4 @@
-#include "camera/lens_warp.h"
+#include "vssim/camera/lens_warp.h"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "camera/shared_by_key.h"
+#include "vssim/camera/shared_by_key.h"
 
 namespace vssim {
 

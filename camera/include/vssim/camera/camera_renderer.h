@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "camera/camera_colours.h"
-#include "camera/camera_geometry.h"
-#include "camera/camera_lens.h"
-#include "camera/lens_warp.h"
-#include "camera/light_gain.h"
-#include "camera/sensor_noise.h"
+#include "vssim/camera/camera_colours.h"
+#include "vssim/camera/camera_geometry.h"
+#include "vssim/camera/camera_lens.h"
+#include "vssim/camera/lens_warp.h"
+#include "vssim/camera/light_gain.h"
+#include "vssim/camera/sensor_noise.h"
 #include "vssim/camera_settings.h"
 #include "vssim/scene.h"
 #include "vssim/world.h"

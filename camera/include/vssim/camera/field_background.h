@@ -3,7 +3,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "camera/camera_geometry.h"
+#include "vssim/camera/camera_geometry.h"
 #include "vssim/field.h"
 
 namespace vssim {

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "camera/camera_geometry.h"
+#include "vssim/camera/camera_geometry.h"
 #include "vssim/camera_settings.h"
 
 namespace vssim {

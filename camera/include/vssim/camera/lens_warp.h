@@ -14,7 +14,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 
-#include "camera/camera_lens.h"
+#include "vssim/camera/camera_lens.h"
 
 namespace vssim {
 

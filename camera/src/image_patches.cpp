@@ -1,4 +1,4 @@
-#include "camera/image_patches.h"
+#include "vssim/camera/image_patches.h"
 
 namespace vssim {
 

@@ -1,4 +1,4 @@
-#include "camera/sensor_noise.h"
+#include "vssim/camera/sensor_noise.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <string>
 #include <tuple>
 
-#include "camera/shared_by_key.h"
+#include "vssim/camera/shared_by_key.h"
 #include "vssim/split_mix.h"
 
 namespace vssim {

@@ -1,4 +1,4 @@
-#include "camera/camera_geometry.h"
+#include "vssim/camera/camera_geometry.h"
 
 #include <algorithm>
 #include <cmath>

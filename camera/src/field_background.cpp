@@ -1,10 +1,10 @@
-#include "camera/field_background.h"
+#include "vssim/camera/field_background.h"
 
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "camera/camera_colours.h"
-#include "camera/camera_layout.h"
+#include "vssim/camera/camera_colours.h"
+#include "vssim/camera/camera_layout.h"
 
 namespace vssim {
 

@@ -1,4 +1,4 @@
-#include "camera/light_gain.h"
+#include "vssim/camera/light_gain.h"
 
 #include <algorithm>
 #include <cmath>

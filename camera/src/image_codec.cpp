@@ -1,4 +1,4 @@
-#include "camera/image_codec.h"
+#include "vssim/camera/image_codec.h"
 
 #include <algorithm>
 #include <cstring>
@@ -6,7 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
-#include "camera/png_stored.h"
+#include "vssim/camera/png_stored.h"
 
 namespace vssim {
 

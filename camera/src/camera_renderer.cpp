@@ -1,4 +1,4 @@
-#include "camera/camera_renderer.h"
+#include "vssim/camera/camera_renderer.h"
 
 #include <algorithm>
 #include <array>
@@ -6,9 +6,9 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-#include "camera/camera_layout.h"
-#include "camera/field_background.h"
-#include "camera/motion_blur.h"
+#include "vssim/camera/camera_layout.h"
+#include "vssim/camera/field_background.h"
+#include "vssim/camera/motion_blur.h"
 #include "vssim/geometry.h"
 
 namespace vssim {

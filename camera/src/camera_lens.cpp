@@ -1,4 +1,4 @@
-#include "camera/camera_lens.h"
+#include "vssim/camera/camera_lens.h"
 
 #include <Eigen/Dense>
 #include <cmath>

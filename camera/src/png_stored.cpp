@@ -1,4 +1,4 @@
-#include "camera/png_stored.h"
+#include "vssim/camera/png_stored.h"
 
 #include <zlib.h>
 
