@@ -67,8 +67,10 @@ void RobotInspector::set(const QString& key, const QString& text) { values_.at(k
 void RobotInspector::showRobot(const Snapshot& s, int robot) {
     const auto index = static_cast<std::size_t>(robot);
     if (robot < 0 || index >= s.robots.size()) {
-        for (auto& [key, label] : values_) label->setText(QStringLiteral("–"));
-        set("name", QStringLiteral("no robot selected"));
+        // Each label set once: a label set to another text and back at every
+        // refresh would be repainted each time (and the window with it).
+        for (auto& [key, label] : values_)
+            label->setText(key == QLatin1String("name") ? QStringLiteral("no robot selected") : QStringLiteral("–"));
         return;
     }
     if (s.scene && index < s.scene->robots.size()) {
