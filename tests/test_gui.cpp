@@ -261,6 +261,12 @@ private slots:
         const RobotState r2 = view.snapshot()->robots[2];
         QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r2.x, r2.y));
         QCOMPARE(view.selectedRobot(), 2);
+        // The inspector and the Let go button name the built-in team, not TCP.
+        auto* drivenBy = w.findChild<QLabel*>("inspector.controller");
+        auto* letGo = w.findChild<QPushButton*>("drive.release");
+        QVERIFY(drivenBy && letGo);
+        QTRY_COMPARE(drivenBy->text(), QStringLiteral("the built-in team"));
+        QTRY_COMPARE(letGo->text(), QStringLiteral("Let go (Esc): back to the built-in team"));
         QTest::keyPress(&view, Qt::Key_W);
         QVERIFY(waitFor(w, [](const Snapshot& s) {
             return s.control[2].controller == RobotController::Manual &&
