@@ -17,6 +17,7 @@
 #include <QTemporaryDir>
 #include <QtTest>
 #include <cmath>
+#include <map>
 #include <tuple>
 
 #include "vssim/camera/camera_colours.h"
@@ -260,6 +261,12 @@ private slots:
         const RobotState r2 = view.snapshot()->robots[2];
         QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r2.x, r2.y));
         QCOMPARE(view.selectedRobot(), 2);
+        // The inspector and the Let go button name the built-in team, not TCP.
+        auto* drivenBy = w.findChild<QLabel*>("inspector.controller");
+        auto* letGo = w.findChild<QPushButton*>("drive.release");
+        QVERIFY(drivenBy && letGo);
+        QTRY_COMPARE(drivenBy->text(), QStringLiteral("the built-in team"));
+        QTRY_COMPARE(letGo->text(), QStringLiteral("Let go (Esc): back to the built-in team"));
         QTest::keyPress(&view, Qt::Key_W);
         QVERIFY(waitFor(w, [](const Snapshot& s) {
             return s.control[2].controller == RobotController::Manual &&
@@ -542,6 +549,50 @@ private slots:
         // Something changes (a step): one more redraw.
         action(w, "action.step")->trigger();
         QTRY_VERIFY(counter.paints > 0);
+    }
+
+    void aPausedMatchRepaintsNothing() {
+        // The default scene (the referee, the built-in team on both sides),
+        // paused as a person pauses it: a click on the field, then Space.
+        // Nothing in the window may be repainted while nothing changes: any
+        // repaint has the whole window composited again (the field is a GL
+        // widget), which cost most of a core under software OpenGL.
+        MainWindow w(kickoffMatch(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.resize(1400, 1000);
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.game.phase == GamePhase::Stop; }));
+        FieldView& view = w.fieldView();
+        QTest::mouseClick(&view, Qt::LeftButton, {}, view.rect().center() + QPoint(0, view.height() / 3));
+        QTest::keyClick(&view, Qt::Key_Space);
+        QVERIFY(waitFor(w, [](const Snapshot& s) { return s.paused; }));
+        struct PaintCounter : QObject {
+            std::map<QString, int> paints;  // by class and object name
+            bool eventFilter(QObject* o, QEvent* e) override {
+                if (e->type() == QEvent::Paint || e->type() == QEvent::UpdateRequest)
+                    ++paints[QStringLiteral("%1 %2").arg(o->metaObject()->className(), o->objectName())];
+                return false;
+            }
+            QString list() const {
+                QStringList out;
+                for (const auto& [name, n] : paints) out << QStringLiteral("%1: %2").arg(name).arg(n);
+                return out.join(", ");
+            }
+        } counter;
+        QTest::qWait(500);  // the last snapshots of the running engine are shown
+        qApp->installEventFilter(&counter);
+        QTest::qWait(1000);  // about 30 refreshes at 30 Hz
+        qApp->removeEventFilter(&counter);
+        QVERIFY2(counter.paints.empty(), qPrintable(counter.list()));
+        // The same with a robot selected (inspector and plots showing it).
+        const RobotState r0 = view.snapshot()->robots[0];
+        QTest::mouseClick(&view, Qt::LeftButton, {}, at(view, r0.x, r0.y));
+        QCOMPARE(view.selectedRobot(), 0);
+        QTest::qWait(500);
+        qApp->installEventFilter(&counter);
+        QTest::qWait(1000);
+        qApp->removeEventFilter(&counter);
+        QVERIFY2(counter.paints.empty(), qPrintable(counter.list()));
     }
 
     void docksStayReadableOnASmallScreen() {

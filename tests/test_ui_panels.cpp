@@ -111,6 +111,7 @@ class TestUiPanels : public QObject {
 private slots:
     void inspectorShowsValuesWithUnits();
     void inspectorSaysWhoDrives();
+    void inspectorNamesTheBuiltInTeam();
     void plotsAccumulateAndForget();
     void plotsThinBeyondTheCap();
     void plotsDrawEveryChart();
@@ -186,6 +187,37 @@ void TestUiPanels::inspectorSaysWhoDrives() {
     s.control[1].tcpWhileManual = true;
     inspector.showRobot(s, 1);
     QCOMPARE(labelText(inspector, "controller"), QStringLiteral("manual (TCP voltages ignored)"));
+}
+
+void TestUiPanels::inspectorNamesTheBuiltInTeam() {
+    // Blue played by the built-in team: its robot is driven by that team,
+    // with voltages or at rest (a stop, its first tick), and letting go of it
+    // hands it back to that team, not to TCP.
+    Snapshot s = makeSnapshot();
+    s.gameSettings.blue = TeamControl::Builtin;
+    RobotInspector inspector;
+    inspector.showRobot(s, 1);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("the built-in team"));
+    s.voltages[1] = Voltages{};
+    inspector.showRobot(s, 1);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("the built-in team"));
+    QCOMPARE(letGoText(s, 1), QStringLiteral("Let go (Esc): back to the built-in team"));
+    // Yellow stays remote: its TCP client, and back to TCP.
+    inspector.showRobot(s, 0);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("TCP client 3"));
+    QCOMPARE(letGoText(s, 0), QStringLiteral("Let go (Esc): back to TCP control"));
+    // A person driving it: manual, whoever plays the team.
+    s.control[1].controller = RobotController::Manual;
+    inspector.showRobot(s, 1);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("manual"));
+    QCOMPARE(letGoText(s, 1), QStringLiteral("Let go (Esc): back to the built-in team"));
+    // An idle team: nobody, even with a TCP client's commands (ignored).
+    s.gameSettings.yellow = TeamControl::Idle;
+    inspector.showRobot(s, 0);
+    QCOMPARE(labelText(inspector, "controller"), QStringLiteral("nobody (idle team: 0 V)"));
+    QCOMPARE(letGoText(s, 0), QStringLiteral("Let go (Esc): back to 0 V (idle team)"));
+    // No robot: the remote team's text.
+    QCOMPARE(letGoText(s, -1), QStringLiteral("Let go (Esc): back to TCP control"));
 }
 
 void TestUiPanels::plotsAccumulateAndForget() {

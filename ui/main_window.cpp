@@ -254,8 +254,10 @@ void MainWindow::buildDocks() {
     joystick_->setToolTip(
         tr("On-screen joystick: drag the knob to drive the selected robot (with the stick mapping above)"));
     layout->addWidget(joystick_, 1, Qt::AlignHCenter);
-    auto* release = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
-    layout->addWidget(release);
+    // Its text names what the robot goes back to (refresh(): letGoText()).
+    release_ = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
+    release_->setObjectName("drive.release");
+    layout->addWidget(release_);
     QDockWidget* driveDock = dock(tr("Drive by hand"), drive, Qt::RightDockWidgetArea, "dock.drive");
     // Below the robot and camera tabs, not among them: the joystick and the
     // plots are seen together. (Split first: a dock split from a tabbed one
@@ -268,7 +270,7 @@ void MainWindow::buildDocks() {
         w->setMinimumWidth(300);
     resizeDocks({robotDock}, {380}, Qt::Horizontal);
     resizeDocks({findChild<QDockWidget*>("dock.game")}, {220}, Qt::Horizontal);
-    connect(release, &QPushButton::clicked, this, &MainWindow::releaseManual);
+    connect(release_, &QPushButton::clicked, this, &MainWindow::releaseManual);
     connect(joystick_, &JoystickWidget::moved, this, [this](double x, double y) { onStick(x, y, false); });
 
     gamepad_ = new GamepadInput(this);
@@ -688,6 +690,8 @@ void MainWindow::refresh() {
         }
     }
     step_->setEnabled(snapshot->paused);
+    const QString letGo = letGoText(*snapshot, manualRobot_ >= 0 ? manualRobot_ : selected);
+    if (release_->text() != letGo) release_->setText(letGo);
     const Scene* scene = snapshot->scene.get();
     if (manualRobot_ >= 0 && scene && manualRobot_ < static_cast<int>(scene->robots.size())) {
         const bool tcp =

@@ -23,6 +23,7 @@ class QLabel;
 class QMenu;
 class QCheckBox;
 class QDockWidget;
+class QPushButton;
 
 namespace vssim {
 
@@ -87,6 +88,7 @@ private:
     JoystickWidget* joystick_ = nullptr;
     GamepadInput* gamepad_ = nullptr;
     QLabel* driveStatus_ = nullptr;
+    QPushButton* release_ = nullptr;  // "Let go (Esc): back to ..."
     QLabel* gamepadStatus_ = nullptr;
     QComboBox* mapping_ = nullptr;
     QCheckBox* throughSpeedLoop_ = nullptr;  // drive by wheel speeds, through the robot's speed loop

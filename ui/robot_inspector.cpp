@@ -67,8 +67,10 @@ void RobotInspector::set(const QString& key, const QString& text) { values_.at(k
 void RobotInspector::showRobot(const Snapshot& s, int robot) {
     const auto index = static_cast<std::size_t>(robot);
     if (robot < 0 || index >= s.robots.size()) {
-        for (auto& [key, label] : values_) label->setText(QStringLiteral("–"));
-        set("name", QStringLiteral("no robot selected"));
+        // Each label set once: a label set to another text and back at every
+        // refresh would be repainted each time (and the window with it).
+        for (auto& [key, label] : values_)
+            label->setText(key == QLatin1String("name") ? QStringLiteral("no robot selected") : QStringLiteral("–"));
         return;
     }
     if (s.scene && index < s.scene->robots.size()) {
@@ -97,15 +99,39 @@ void RobotInspector::showRobot(const Snapshot& s, int robot) {
     set("voltageRight", number(volts.right, 2, "V"));
     set("voltageLeft", number(volts.left, 2, "V"));
 
-    QString controller;
-    if (index >= s.control.size())
-        controller = QStringLiteral("not known (watching a server)");
-    else if (s.control[index].controller == RobotController::None &&
-             (s.voltages[index].right != 0.0 || s.voltages[index].left != 0.0))
-        controller = QStringLiteral("the scene's own commands");
-    else
-        controller = controllerText(s.control[index]);
-    set("controller", controller);
+    set("controller", drivenByText(s, robot));
+}
+
+std::optional<TeamControl> teamControlOf(const Snapshot& s, int robot) {
+    if (!s.scene || robot < 0 || robot >= static_cast<int>(s.scene->robots.size())) return std::nullopt;
+    return s.scene->robots[static_cast<std::size_t>(robot)].team == Team::Yellow ? s.gameSettings.yellow
+                                                                                 : s.gameSettings.blue;
+}
+
+QString drivenByText(const Snapshot& s, int robot) {
+    const auto index = static_cast<std::size_t>(robot);
+    if (robot < 0 || index >= s.control.size()) return QStringLiteral("not known (watching a server)");
+    const RobotControl& control = s.control[index];
+    if (control.controller == RobotController::Manual) return controllerText(control);
+    // The Match ignores TCP commands for a built-in or idle team's robots.
+    switch (teamControlOf(s, robot).value_or(TeamControl::Remote)) {
+        case TeamControl::Builtin: return QStringLiteral("the built-in team");
+        case TeamControl::Idle: return QStringLiteral("nobody (idle team: 0 V)");
+        case TeamControl::Remote: break;
+    }
+    const Voltages volts = index < s.voltages.size() ? s.voltages[index] : Voltages{};
+    if (control.controller == RobotController::None && (volts.right != 0.0 || volts.left != 0.0))
+        return QStringLiteral("the scene's own commands");
+    return controllerText(control);
+}
+
+QString letGoText(const Snapshot& s, int robot) {
+    switch (teamControlOf(s, robot).value_or(TeamControl::Remote)) {
+        case TeamControl::Builtin: return QObject::tr("Let go (Esc): back to the built-in team");
+        case TeamControl::Idle: return QObject::tr("Let go (Esc): back to 0 V (idle team)");
+        case TeamControl::Remote: break;
+    }
+    return QObject::tr("Let go (Esc): back to TCP control");
 }
 
 }  // namespace vssim

@@ -4,6 +4,7 @@
 
 #include <QWidget>
 #include <map>
+#include <optional>
 
 #include "realtime/snapshot.h"
 
@@ -30,5 +31,21 @@ private:
 // Who drives a robot, as the inspector says it: "TCP client N",
 // "manual (TCP voltages ignored)", "manual" or "nobody (0 V)".
 QString controllerText(const RobotControl& control);
+
+// The team control (built-in, remote or idle) of robot `robot`'s team in the
+// snapshot; nullopt when the snapshot has no scene or no such robot.
+std::optional<TeamControl> teamControlOf(const Snapshot& s, int robot);
+
+// Who drives robot `robot` of the snapshot, as the inspector's "Driven by"
+// says it: a person ("manual ..."), the built-in team, nobody for an idle
+// team, else controllerText() or "the scene's own commands" (nobody's, yet
+// with voltages); "not known (watching a server)" without control data.
+QString drivenByText(const Snapshot& s, int robot);
+
+// The Drive by hand dock's button: what robot `robot` goes back to when a
+// person lets go of it ("Let go (Esc): back to the built-in team", "... back
+// to TCP control", "... back to 0 V (idle team)"); the TCP text when no
+// robot is known.
+QString letGoText(const Snapshot& s, int robot);
 
 }  // namespace vssim
