@@ -85,10 +85,10 @@ private:
     }
     static QString join(const QString& path, const QString& key) { return path.isEmpty() ? key : path + "." + key; }
 
-    bool object(const QJsonValue& value, const QString& path, QJsonObject* out);
+    bool objectAt(const QJsonValue& value, const QString& path, QJsonObject* out);
     bool keys(const QJsonObject& o, const QString& path, std::initializer_list<const char*> allowed);
     bool number(const QJsonObject& o, const QString& path, const char* key, const AllowedRange& range, double* out);
-    bool string(const QJsonObject& o, const QString& path, const char* key, QString* out);
+    bool stringAt(const QJsonObject& o, const QString& path, const char* key, QString* out);
     template <typename T, std::size_t N>
     bool choice(const QJsonObject& o, const QString& path, const char* key, const std::pair<const char*, T> (&table)[N],
                 T* out);
@@ -109,7 +109,7 @@ private:
     QHash<QString, int> robotIndex_;  // robot name -> index in Scene::robots, for the commands
 };
 
-bool SceneReader::object(const QJsonValue& value, const QString& path, QJsonObject* out) {
+bool SceneReader::objectAt(const QJsonValue& value, const QString& path, QJsonObject* out) {
     if (!value.isObject()) return fail(path, QStringLiteral("expected an object"));
     *out = value.toObject();
     return true;
@@ -142,7 +142,7 @@ bool SceneReader::number(const QJsonObject& o, const QString& path, const char* 
     return true;
 }
 
-bool SceneReader::string(const QJsonObject& o, const QString& path, const char* key, QString* out) {
+bool SceneReader::stringAt(const QJsonObject& o, const QString& path, const char* key, QString* out) {
     if (!o.contains(QLatin1String(key))) return true;
     const QJsonValue value = o.value(QLatin1String(key));
     if (!value.isString()) return fail(join(path, key), QStringLiteral("expected a string"));
@@ -155,7 +155,7 @@ bool SceneReader::choice(const QJsonObject& o, const QString& path, const char* 
                          const std::pair<const char*, T> (&table)[N], T* out) {
     QString name;
     if (!o.contains(QLatin1String(key))) return true;
-    if (!string(o, path, key, &name)) return false;
+    if (!stringAt(o, path, key, &name)) return false;
     const std::optional<T> value = valueOf(table, name);
     if (!value)
         return fail(join(path, key),
@@ -168,7 +168,7 @@ bool SceneReader::field(const QJsonObject& root, Scene& scene) {
     if (!root.contains("field")) return true;
     QJsonObject o;
     const QString path = "field";
-    if (!object(root.value(path), path, &o) ||
+    if (!objectAt(root.value(path), path, &o) ||
         !keys(o, path,
               {"type", "length", "width", "goal_width", "goal_depth", "corner_leg", "centre_radius", "goal_area_depth",
                "goal_area_width", "penalty_mark", "free_ball_x", "free_ball_y"}))
@@ -204,7 +204,7 @@ bool SceneReader::simulation(const QJsonObject& root, Scene& scene) {
     QJsonObject o;
     SimulationSettings& s = scene.simulation;
     const QString path = "simulation";
-    if (!object(root.value(path), path, &o) || !keys(o, path, {"integrator", "dt", "collision_model", "restitution"}) ||
+    if (!objectAt(root.value(path), path, &o) || !keys(o, path, {"integrator", "dt", "collision_model", "restitution"}) ||
         !choice(o, path, "integrator", kIntegrators, &s.integrator) || !number(o, path, "dt", kTimeStep, &s.dt) ||
         !choice(o, path, "collision_model", kCollisionModels, &s.collision_model) ||
         !number(o, path, "restitution", kUnitInterval, &s.restitution))
@@ -236,7 +236,7 @@ bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotPa
          {std::pair<const char*, MotorParams*>{"right", &p.right}, {"left", &p.left}}) {
         if (!o.contains(QLatin1String(key))) continue;
         QJsonObject m;
-        if (!object(o.value(QLatin1String(key)), join(path, key), &m) || !motor(m, join(path, key), *motorParams))
+        if (!objectAt(o.value(QLatin1String(key)), join(path, key), &m) || !motor(m, join(path, key), *motorParams))
             return false;
     }
     if (o.contains("speed_controller")) {
@@ -244,7 +244,7 @@ bool SceneReader::robotParams(const QJsonObject& o, const QString& path, RobotPa
         const QString where = join(path, "speed_controller");
         SpeedControllerParams& s = p.speed_controller;
         double counts = s.encoder_counts;
-        if (!object(o.value("speed_controller"), where, &c) ||
+        if (!objectAt(o.value("speed_controller"), where, &c) ||
             !keys(c, where, {"rate", "kp", "ki", "encoder_counts"}) || !number(c, where, "rate", kLoopRate, &s.rate) ||
             !number(c, where, "kp", kLoopKp, &s.kp) || !number(c, where, "ki", kLoopKi, &s.ki) ||
             !number(c, where, "encoder_counts", kEncoderCounts, &counts))
@@ -262,7 +262,7 @@ bool SceneReader::ball(const QJsonObject& root, Scene& scene) {
     QJsonObject o;
     BallState& b = scene.ball;
     BallParams& p = scene.ball_params;
-    if (!object(root.value("ball"), "ball", &o) ||
+    if (!objectAt(root.value("ball"), "ball", &o) ||
         !keys(o, "ball", {"x", "y", "vx", "vy", "mass", "radius", "friction"}) || !number(o, "ball", "x", kAny, &b.x) ||
         !number(o, "ball", "y", kAny, &b.y) || !number(o, "ball", "vx", kBallVelocity, &b.vx) ||
         !number(o, "ball", "vy", kBallVelocity, &b.vy) || !number(o, "ball", "mass", kBallMass, &p.mass) ||
@@ -284,13 +284,13 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
     for (int i = 0; i < list.size(); ++i) {
         const QString path = QStringLiteral("robots[%1]").arg(i);
         QJsonObject o;
-        if (!object(list[i], path, &o) || !keys(o, path, {"name", "team", "x", "y", "theta", "v", "omega", "params"}))
+        if (!objectAt(list[i], path, &o) || !keys(o, path, {"name", "team", "x", "y", "theta", "v", "omega", "params"}))
             return false;
         RobotSpec r;
         r.params = defaults;
         QString name;
         RobotState& s = r.initial;
-        if (!string(o, path, "name", &name) || !choice(o, path, "team", kTeams, &r.team) ||
+        if (!stringAt(o, path, "name", &name) || !choice(o, path, "team", kTeams, &r.team) ||
             !number(o, path, "x", kAny, &s.x) || !number(o, path, "y", kAny, &s.y) ||
             !number(o, path, "theta", kAny, &s.theta) || !number(o, path, "v", kRobotSpeed, &s.v) ||
             !number(o, path, "omega", kRobotYawRate, &s.omega))
@@ -298,7 +298,7 @@ bool SceneReader::robots(const QJsonObject& root, const RobotParams& defaults, b
         bool ownInertia = inertiaGiven;
         if (o.contains("params")) {
             QJsonObject p;
-            if (!object(o.value("params"), join(path, "params"), &p) ||
+            if (!objectAt(o.value("params"), join(path, "params"), &p) ||
                 !robotParams(p, join(path, "params"), r.params, &ownInertia))
                 return false;
         }
@@ -340,9 +340,9 @@ bool SceneReader::commands(const QJsonObject& root, Scene& scene) {
         QJsonObject o;
         VoltageCommand c;
         QString robot;
-        if (!object(list[i], path, &o) ||
+        if (!objectAt(list[i], path, &o) ||
             !keys(o, path, {"t", "robot", "right", "left", "right_speed", "left_speed"}) ||
-            !number(o, path, "t", kCommandTime, &c.t) || !string(o, path, "robot", &robot) ||
+            !number(o, path, "t", kCommandTime, &c.t) || !stringAt(o, path, "robot", &robot) ||
             !number(o, path, "right", kAny, &c.voltages.right) || !number(o, path, "left", kAny, &c.voltages.left) ||
             !number(o, path, "right_speed", kWheelSpeedTarget, &c.speeds.right) ||
             !number(o, path, "left_speed", kWheelSpeedTarget, &c.speeds.left))
@@ -368,7 +368,7 @@ bool SceneReader::game(const QJsonObject& root, Scene& scene) {
     GameRules& r = g.rules;
     const QString path = "game";
     double halves = r.halves;
-    if (!object(root.value(path), path, &o) ||
+    if (!objectAt(root.value(path), path, &o) ||
         !keys(o, path,
               {"referee", "halves", "half_duration", "stop_duration", "stuck_ball_speed", "stuck_ball_time",
                "crowded_area_time", "free_ball_distance", "tick", "left_team", "yellow", "blue"}) ||
@@ -401,7 +401,7 @@ bool SceneReader::game(const QJsonObject& root, Scene& scene) {
 bool SceneReader::camera(const QJsonObject& root, Scene& scene) {
     if (!root.contains("camera")) return true;
     QJsonObject o;
-    return object(root.value("camera"), "camera", &o) && camera(o, "camera", scene.camera);
+    return objectAt(root.value("camera"), "camera", &o) && camera(o, "camera", scene.camera);
 }
 
 bool SceneReader::camera(const QJsonObject& o, const QString& path, CameraSettings& c) {
@@ -533,7 +533,7 @@ std::optional<Scene> SceneReader::read(const QJsonObject& root) {
     bool inertiaGiven = false;
     if (root.contains("robot_defaults")) {
         QJsonObject o;
-        if (!object(root.value("robot_defaults"), "robot_defaults", &o) ||
+        if (!objectAt(root.value("robot_defaults"), "robot_defaults", &o) ||
             !robotParams(o, "robot_defaults", defaults, &inertiaGiven))
             return std::nullopt;
     }
