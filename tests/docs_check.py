@@ -12,16 +12,18 @@ VAR=value assignments, is build/app/vssim, vssim, /usr/bin/python3,
 ./setup.sh or build/examples/... is a command; a trailing backslash
 continues it on the next line and a trailing "# comment" is not part of it.
 "vssim WORD: ..." lines are output, not commands. Every ```python block is
-run as a script. Each runs in a fresh temporary directory (so --out FILE
-writes there), with HOME there too, and must exit 0 and print no error
+run as a script. Each block runs in a fresh temporary directory (so --out
+FILE writes there; the commands of a block share it, in order), with HOME
+there too, and must exit 0 and print no error
 (ERROR_PATTERN) on standard error (nor a Python traceback anywhere). The
 mechanical rewrites, so that everything finishes in seconds and nothing
 collides with another test:
 
   - build/app/vssim and a bare vssim are the vssim under test; any other
-    build/PATH is PATH in the build tree under test; a word naming a file or
-    folder of the source tree (examples/python/vssim_client.py) is that
-    file; ~ is the temporary HOME.
+    build/PATH is PATH in the build tree under test; ~ is the temporary
+    HOME. The temporary directory holds symbolic links to the source tree's
+    files and folders (examples/..., resources/...) and build/ to the build
+    tree, so a command finds what it would find in a checkout.
   - my_scene.json, "your own scene", is written by this test into the
     temporary directory as a copy of resources/scenes/kickoff_3v3.json.
   - vssim serve gets --port (a free port) and --quit-after 1 (or, as the
@@ -41,7 +43,8 @@ collides with another test:
     vssim_example_client, examples/firasim/go_to_ball.py) runs against the
     last server command before it in the same file (vssim serve or the app),
     or the one a "server:" marker names, with that server's ports; the
-    FIRASim client plays for at most CLIENT_SECONDS.
+    FIRASim client plays for at most CLIENT_SECONDS and, with the vision on
+    127.0.0.1 (no multicast needed), must have seen it.
   - A "$ command" line followed by lines of output: standard output must be
     those lines; a last line "vssim CMD: ..." is standard error's last
     line, compared with its numbers masked (it has the run time).
@@ -228,6 +231,19 @@ def free_port(kind=socket.SOCK_STREAM):
         return s.getsockname()[1]
 
 
+def wait_for_port(port, proc, seconds=20.0):
+    """Until something accepts on 127.0.0.1:port (the server has started), the server
+    exits or the time is up; a server with a UDP side opens it before its TCP port."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and proc.poll() is None:
+        try:
+            socket.create_connection(("127.0.0.1", port), timeout=1).close()
+            time.sleep(0.2)    # our probe connection's HELLO timeout is the server's business
+            return
+        except OSError:
+            time.sleep(0.1)
+
+
 def set_option(argv, name, value, only_if_absent=False):
     """argv with --name value (replacing the doc's, unless only_if_absent)."""
     if name in argv:
@@ -372,7 +388,7 @@ class Runner:
             out, err = proc.communicate()
         return proc.returncode, out, err
 
-    def run_gui(self, argv, env, cwd, server_ports=None):
+    def run_gui(self, argv, env, cwd):
         """Starts the app; it must be running after GUI_SECONDS. Returns the process."""
         proc = self.start(argv, env, cwd)
         deadline = time.monotonic() + GUI_SECONDS
@@ -448,7 +464,7 @@ class Runner:
         s_kind = self.kind(s_argv)
         s_argv, ports = self.server_argv(s_argv, s_kind)
         server = self.start(s_argv, self.environment(home, s_extra), home)
-        time.sleep(GUI_SECONDS if s_kind == "gui" else 0.5)
+        wait_for_port(ports["tcp"], server)
         argv = self.client_argv(argv, ports)
         status, out, err = self.run(argv, env, home, timeout=60)
         # The TCP clients exit with 1 when --max-time passed before the robot reached
@@ -463,8 +479,15 @@ class Runner:
         elif s_kind != "gui":
             problems += ["server: " + p for p in self.check_output(s_out, s_err, s_status)]
         tail = (out.strip().split("\n") or [""])[-1][:100]
+        seen = re.search(r"vision packets (\d+)", out)
+        # Over unicast it must have seen the vision; multicast needs a route some
+        # machines lack (docs/firasim.md), so there only that it ran.
+        unicast = "--vision-address" in argv and argv[argv.index("--vision-address") + 1] == "127.0.0.1"
+        if any(a.endswith("go_to_ball.py") for a in argv) and unicast and not (seen and int(seen.group(1)) > 0):
+            problems.append("the FIRASim client saw no vision packet")
         self.results.report(cmd.where, shown, not problems, "; ".join(problems) or
-                            f"against {server_command.where}'s server; last line: {tail}")
+                            f"against {server_command.where}'s server; "
+                            f"{'exit status 1, --max-time passed; ' if gave_up else ''}last line: {tail}")
 
     def python_block(self, block):
         home = self.workdir()
