@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """What the desktop app costs paused and running at x1, driven as a person
-drives it (docs/performance.md, "The desktop app, paused by hand").
+drives it (docs/performance.md, "Paused by hand").
 
 Starts `vssim gui` with no scene (the default match: the referee and the
 built-in team on both sides) on an X server of 1400 x 1000 (Xvfb, started

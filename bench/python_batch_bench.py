@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Throughput of the in-process Python module (docs/performance.md, §9):
+"""Throughput of the in-process Python module (docs/performance.md, "Worlds in
+Python, in-process"):
 steps per second and aggregate real-time factor of vssim.BatchWorld for 1,
 16, 256 and 4096 worlds, on 1 and 2 threads, with and without the
 observations copied out each step; a lone vssim.World; the cost of a Python

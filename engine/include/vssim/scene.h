@@ -19,7 +19,8 @@ namespace vssim {
 struct SimulationSettings {
     // The exact integrator by default: at the same step more accurate than RK4,
     // several times faster with its long steps, and stable for any motor
-    // (docs/performance.md, sections 1 and 2). Euler and RK4 stay selectable.
+    // (docs/performance.md, "Accuracy against run time" and "Speed against the
+    // peers"). Euler and RK4 stay selectable.
     Integrator integrator = Integrator::Exact;
     double dt = 0.001;  // fixed step h, s
     CollisionModel collision_model = CollisionModel::Paper;
