@@ -26,7 +26,7 @@ QString mainHelp() {
                "  vssim gui [SCENE]     open the desktop app on a scene (vssim gui --help)\n"
                "  vssim demo            play the built-in 3-vs-3 kick-off headless for 10 s and print a summary\n"
                "  vssim run SCENE ...   run a scene headless and write CSV (vssim run --help)\n"
-               "  vssim serve SCENE ... serve a scene over TCP in real time: voltages in, camera images out\n"
+               "  vssim serve SCENE ... serve a scene over TCP (real time, faster or lockstep): voltages in, images out\n"
                "                        (vssim serve --help; protocol: docs/protocol.md)\n"
                "  vssim match [SCENE]   play a whole match headless: referee, built-in teams; prints the score\n"
                "                        and the referee's calls (vssim match --help; docs/game.md)\n"

@@ -459,6 +459,23 @@ private slots:
         }
     }
 
+    void fitsASmallScreen() {
+        // The window fits 1024 x 768 less a taskbar: its right-hand docks
+        // scroll rather than make the window taller, and keep 300 px of width.
+        MainWindow w(kickoffMatch(), ":/scenes/kickoff_3v3.json", anyPort());
+        w.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&w));
+        QVERIFY2(w.minimumSizeHint().height() <= 740 && w.minimumSizeHint().width() <= 1024,
+                 qPrintable(QStringLiteral("minimum %1 x %2").arg(w.minimumSizeHint().width()).arg(w.minimumSizeHint().height())));
+        w.resize(1024, 740);
+        QTRY_COMPARE(w.size(), QSize(1024, 740));
+        for (const char* name : {"dock.robot", "dock.drive"}) {
+            const QDockWidget* d = w.findChild<QDockWidget*>(name);
+            QVERIFY(d && d->isVisible());
+            QVERIFY2(d->width() >= 300, name);
+        }
+    }
+
     void sidesSwapFromTheEditMenu() {
         // Edit > Blue defends the left goal: the match starts again with blue
         // placed in the left half for the kick-off, yellow in the right.

@@ -216,8 +216,10 @@ void TestUiPanels::inspectorNamesTheBuiltInTeam() {
     inspector.showRobot(s, 0);
     QCOMPARE(labelText(inspector, "controller"), QStringLiteral("nobody (idle team: 0 V)"));
     QCOMPARE(letGoText(s, 0), QStringLiteral("Let go (Esc): back to 0 V (idle team)"));
-    // No robot: the remote team's text.
-    QCOMPARE(letGoText(s, -1), QStringLiteral("Let go (Esc): back to TCP control"));
+    // No robot: nothing to go back to yet, whatever the teams.
+    QCOMPARE(letGoText(s, -1), QStringLiteral("Let go (Esc)"));
+    s.gameSettings.yellow = s.gameSettings.blue = TeamControl::Builtin;
+    QCOMPARE(letGoText(s, -1), QStringLiteral("Let go (Esc)"));
 }
 
 void TestUiPanels::plotsAccumulateAndForget() {

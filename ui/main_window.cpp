@@ -17,6 +17,9 @@
 #include <QMessageBox>
 #include <QPushButton>
 #include <QSaveFile>
+#include <QScreen>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
 #include <QSignalBlocker>
 #include <QSplitter>
@@ -24,6 +27,7 @@
 #include <QToolBar>
 #include <QUndoCommand>
 #include <QVBoxLayout>
+#include <algorithm>
 
 #include "camera_view.h"
 #include "connections_panel.h"
@@ -157,8 +161,12 @@ MainWindow::MainWindow(const Scene& scene, const QString& scenePath, const Serve
     connect(&timer_, &QTimer::timeout, this, &MainWindow::refresh);
     setRefreshRate(30.0);
     updateTitle();
-    resize(1280, 860);
+    // As large as the plots and the joystick want (1280 x 1100), or the
+    // screen's free area where that is smaller (the docks then scroll).
+    const QRect free = screen() ? screen()->availableGeometry() : QRect(0, 0, 1280, 1100);
+    resize(std::min(1280, free.width()), std::min(1100, free.height()));
     resizeDocks({robotDock_, findChild<QDockWidget*>("dock.game")}, {360, 220}, Qt::Horizontal);
+    resizeDocks({findChild<QDockWidget*>("dock.connections")}, {130}, Qt::Vertical);
 }
 
 MainWindow::~MainWindow() { timer_.stop(); }
@@ -179,12 +187,24 @@ void MainWindow::buildDocks() {
         addDockWidget(area, d);
         return d;
     };
+    // A right-hand dock's content scrolls when the screen is too short for
+    // it, so that the window fits a small screen (1024 x 768) and keeps the
+    // docks' readable width.
+    auto scrolling = [](QWidget* content) {
+        auto* area = new QScrollArea;
+        area->setWidget(content);
+        area->setWidgetResizable(true);
+        area->setFrameShape(QFrame::NoFrame);
+        area->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+        area->setMinimumWidth(300 + area->verticalScrollBar()->sizeHint().width());
+        return area;
+    };
     auto* robotPanel = new QSplitter(Qt::Vertical);
     inspector_ = new RobotInspector(robotPanel);
     plots_ = new LivePlots(robotPanel);
     robotPanel->addWidget(inspector_);
     robotPanel->addWidget(plots_);
-    QDockWidget* robotDock = dock(tr("Selected robot"), robotPanel, Qt::RightDockWidgetArea, "dock.robot");
+    QDockWidget* robotDock = dock(tr("Selected robot"), scrolling(robotPanel), Qt::RightDockWidgetArea, "dock.robot");
     robotDock_ = robotDock;
 
     camera_ = new CameraView;
@@ -255,10 +275,10 @@ void MainWindow::buildDocks() {
         tr("On-screen joystick: drag the knob to drive the selected robot (with the stick mapping above)"));
     layout->addWidget(joystick_, 1, Qt::AlignHCenter);
     // Its text names what the robot goes back to (refresh(): letGoText()).
-    release_ = new QPushButton(tr("Let go (Esc): back to TCP control"), drive);
+    release_ = new QPushButton(tr("Let go (Esc)"), drive);
     release_->setObjectName("drive.release");
     layout->addWidget(release_);
-    QDockWidget* driveDock = dock(tr("Drive by hand"), drive, Qt::RightDockWidgetArea, "dock.drive");
+    QDockWidget* driveDock = dock(tr("Drive by hand"), scrolling(drive), Qt::RightDockWidgetArea, "dock.drive");
     // Below the robot and camera tabs, not among them: the joystick and the
     // plots are seen together. (Split first: a dock split from a tabbed one
     // would become another tab.)

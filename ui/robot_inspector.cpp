@@ -126,7 +126,9 @@ QString drivenByText(const Snapshot& s, int robot) {
 }
 
 QString letGoText(const Snapshot& s, int robot) {
-    switch (teamControlOf(s, robot).value_or(TeamControl::Remote)) {
+    const std::optional<TeamControl> control = teamControlOf(s, robot);
+    if (!control) return QObject::tr("Let go (Esc)");  // no robot selected or driven: nothing to go back to yet
+    switch (*control) {
         case TeamControl::Builtin: return QObject::tr("Let go (Esc): back to the built-in team");
         case TeamControl::Idle: return QObject::tr("Let go (Esc): back to 0 V (idle team)");
         case TeamControl::Remote: break;

@@ -304,6 +304,10 @@ def main(argv):
     answered = None             # the stoppage we answered (foul, team, quadrant, half)
     counts = {"vision": 0, "referee": 0, "placements": 0, "commands": 0}
     end = time.monotonic() + args.duration
+    # Zero wheel speeds once at the start: a simulator in lockstep on the
+    # commands (vssim serve --firasim-sync) that started before this client
+    # waits for a command packet before it sends the next vision.
+    send_wheels({robot_id: (0.0, 0.0) for robot_id in ids})
     try:
         while time.monotonic() < end:
             ready, _, _ = select.select([vision, referee], [], [], 0.1)
