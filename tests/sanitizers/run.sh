@@ -99,20 +99,37 @@ fuzz() {
     cmake -S . -B $b "${common[@]}" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCMAKE_CXX_COMPILER=clang++-14 \
         -DVSSIM_FUZZ=ON -DBUILD_TESTING=OFF >/dev/null
     timed "fuzz build" cmake --build $b -j "$jobs" --target fuzz || return 1
-    local start=$SECONDS status=0 name work
+    # JOBS fuzzers at a time, each on one core; the crashes of an earlier run go.
+    rm -rf $b/crashes
+    local start=$SECONDS status=0 name work running=0
     for name in fuzz_scene fuzz_client_messages fuzz_firasim_packet fuzz_vssref_placement; do
         # New inputs go to a scratch corpus; the committed seeds are read only.
         # A crash leaves its input in $b/crashes/ (a regression test's input).
         work=$b/corpus/$name
         mkdir -p "$work" $b/crashes
+        if [ $running -ge "$jobs" ]; then
+            wait -n || status=1
+            running=$((running - 1))
+        fi
         echo "sanitizers: $name for $fuzz_seconds s" >&2
         "$b/fuzz/$name" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-            -artifact_prefix="$b/crashes/$name-" "$work" "fuzz/corpus/$name" 2>"$b/$name.log" || {
-            status=1
-            tail -n 60 "$b/$name.log" >&2
-        }
-        grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)|^#[0-9]+.*DONE' "$b/$name.log" >&2 || true
+            -artifact_prefix="$b/crashes/$name-" "$work" "fuzz/corpus/$name" 2>"$b/$name.log" &
+        running=$((running + 1))
     done
+    while [ $running -gt 0 ]; do
+        wait -n || status=1
+        running=$((running - 1))
+    done
+    for name in fuzz_scene fuzz_client_messages fuzz_firasim_packet fuzz_vssref_placement; do
+        # The last lines say what was found; the whole log stays in $b.
+        grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)|DONE' "$b/$name.log" | sed "s/^/$name: /" >&2 ||
+            tail -n 60 "$b/$name.log" >&2
+    done
+    if ls $b/crashes/* >/dev/null 2>&1; then
+        echo "sanitizers: the fuzzers found inputs that fail, in $b/crashes/:" >&2
+        ls $b/crashes >&2
+        status=1
+    fi
     times+=("fuzz run $((SECONDS - start)) s")
     return $status
 }
