@@ -4,7 +4,11 @@
 #
 #   ./setup.sh run [vssim arguments...]   install, build, start vssim
 #   ./setup.sh test                       install, build, run every test (CTest)
+#   ./setup.sh test --sanitizers          the same, then the sanitizer and fuzzer
+#                                         jobs (tests/sanitizers/run.sh all, about
+#                                         30 minutes on two cores; docs/testing.md)
 #
+# With CI=true, `test` runs the sanitizer and fuzzer jobs too.
 # Environment: BUILD_DIR (default: build), JOBS (default: number of cores).
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -13,9 +17,19 @@ mode=${1:-run}
 [ $# -gt 0 ] && shift
 case "$mode" in
     run|test) ;;
-    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "setup.sh: unknown mode '$mode' (expected 'run' or 'test')" >&2; exit 2 ;;
 esac
+sanitizers=no
+if [ "$mode" = test ]; then
+    [ "${CI:-}" = true ] && sanitizers=yes
+    for a in "$@"; do
+        case "$a" in
+            --sanitizers) sanitizers=yes ;;
+            *) echo "setup.sh: unknown option '$a' for test (expected --sanitizers)" >&2; exit 2 ;;
+        esac
+    done
+fi
 
 packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev
           libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev
@@ -24,6 +38,10 @@ packages=(g++ cmake make pkg-config qt6-base-dev libeigen3-dev
           libprotobuf-dev protobuf-compiler python3-protobuf python3-distributed
           libbox2d-dev zlib1g-dev
           dpkg-dev file desktop-file-utils iproute2)
+# The sanitizer and fuzzer jobs: libFuzzer is clang's (its runtime in
+# libclang-rt-14-dev), llvm-14 symbolizes its reports; GCC's sanitizer
+# runtimes come with g++.
+[ "$sanitizers" = yes ] && packages+=(clang-14 libclang-rt-14-dev llvm-14)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -45,4 +63,9 @@ cmake --build "$build" -j "$jobs"
 if [ "$mode" = run ]; then
     exec "$build/app/vssim" "$@"
 fi
-ctest --test-dir "$build" --output-on-failure -j "$jobs"
+status=0
+ctest --test-dir "$build" --output-on-failure -j "$jobs" || status=$?
+if [ "$sanitizers" = yes ]; then
+    JOBS=$jobs tests/sanitizers/run.sh all || status=1
+fi
+exit $status

@@ -446,7 +446,8 @@ void TestFirasim::badInput() {
     Fira f(kickoff(), true);
     QVERIFY(f.next());
     // Garbage: not a Packet.
-    f.send(QByteArray("\xff\xff\xff\xff garbage \x01\x02", 18));
+    static const char garbage[] = "\xff\xff\xff\xff garbage \x01\x02";
+    f.send(QByteArray(garbage, sizeof garbage - 1));  // 15 bytes, without the literal's NUL
     Environment env = f.step();
     QCOMPARE(f.server->stats().malformed, std::int64_t{1});
     // Oversized.

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -267,7 +268,8 @@ double residentMiB() {
 // between two STATE messages (from the start, to the end), and what the
 // server held for all its clients at worst.
 struct Watched {
-    double worstGapMs = 0;
+    double worstGapMs = 0;       // wall clock, for the log
+    double worstGameGapS = 0;    // the game's time between two STATEs (and after the last), s
     int states = 0;
     qint64 peakUnsent = 0;  // bytes, all clients together
     qint64 peakUnread = 0;  // bytes, all clients together
@@ -280,11 +282,15 @@ Watched watch(Served& served, ProtocolClient& observer, int durationMs) {
     QElapsedTimer wall;
     wall.start();
     std::int64_t last = monotonicNs();
+    double lastGameTime = served.engine->snapshots().latest()->time;
     while (wall.elapsed() < durationMs) {
         const auto r = observer.next(20);
         if (r && r->message.type == std::uint8_t(MessageType::State)) {
             w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(r->arrivalNs - last));
             last = r->arrivalNs;
+            const double gameTime = jsonPayload(r->message)["time"].toDouble();
+            w.worstGameGapS = std::max(w.worstGameGapS, gameTime - lastGameTime);
+            lastGameTime = gameTime;
             ++w.states;
         }
         qint64 unsent = 0, unread = 0;
@@ -296,11 +302,12 @@ Watched watch(Served& served, ProtocolClient& observer, int durationMs) {
         w.peakUnread = std::max(w.peakUnread, unread);
     }
     w.worstGapMs = std::max(w.worstGapMs, 1e-6 * static_cast<double>(monotonicNs() - last));
+    w.worstGameGapS = std::max(w.worstGameGapS, served.engine->snapshots().latest()->time - lastGameTime);
     w.residentGrowthMiB = residentMiB() - residentBefore;
     qInfo(
-        "normal client: %d STATEs, worst gap %.1f ms; server: at most %.2f MiB unsent, %.2f MiB unread; process "
-        "memory %+.1f MiB",
-        w.states, w.worstGapMs, static_cast<double>(w.peakUnsent) / (1 << 20),
+        "normal client: %d STATEs, worst gap %.1f ms (%.3f s of the game); server: at most %.2f MiB unsent, %.2f MiB "
+        "unread; process memory %+.1f MiB",
+        w.states, w.worstGapMs, w.worstGameGapS, static_cast<double>(w.peakUnsent) / (1 << 20),
         static_cast<double>(w.peakUnread) / (1 << 20), w.residentGrowthMiB);
     return w;
 }
@@ -754,26 +761,33 @@ private slots:
     }
 
     void aRawFullFrameReaderKeepsUp() {
-        // Real time: a reader that keeps up gets every raw full frame (922 kB,
+        // Real time: a reader that keeps up gets most raw full frames (922 kB,
         // 31 MB/s) over loopback. The small send buffer kept for slow readers
         // must still hold two of loopback's 64 KiB segments: with room for one,
-        // each waited for the reader's delayed ACK (40 ms), two frames a second.
+        // each waited for the reader's delayed ACK (40 ms), 0.6 s a frame
+        // whatever the machine's speed, and the server dropped about 19 of
+        // every 20 frames for it (5 delivered in 3 s). Counted against the
+        // frames the server had for this reader, so a slow machine, which
+        // renders fewer, still passes: at least as many delivered as dropped.
         Served served(kickoff(), RunMode::Realtime);
         auto reader = join(served.port(), helloJson("observer", "full", "raw"));
         QVERIFY(reader);
         int frames = 0;
-        QElapsedTimer wall;
-        wall.start();
-        while (wall.elapsed() < 3000) {
+        QElapsedTimer deadline;  // only guards against a hang
+        deadline.start();
+        while (frames < 30 && deadline.elapsed() < 30000) {
             QTest::qWait(5);
             while (auto r = reader->poll())
                 if (r->message.type == std::uint8_t(MessageType::Frame) &&
                     decode(r->message).header.kind == protocol::FrameKind::Full)
                     ++frames;
         }
-        // 100 frame periods: a quarter of them even on a loaded machine (the
-        // fault gave 5).
-        QVERIFY2(frames >= 25, qPrintable(QString("%1 full frames in 3 s").arg(frames)));
+        const std::vector<ClientInfo> clients = served.server->clients();
+        QCOMPARE(clients.size(), std::size_t(1));
+        qInfo("%d full frames delivered, %lld dropped", frames, static_cast<long long>(clients[0].framesDropped));
+        QCOMPARE(frames, 30);
+        QVERIFY2(clients[0].framesDropped <= frames,
+                 qPrintable(QString("%1 full frames delivered, %2 dropped").arg(frames).arg(clients[0].framesDropped)));
     }
 
     void aSlowReaderGetsThePresent() {
@@ -864,20 +878,22 @@ private slots:
 
     void framesKeepComingDespiteAFloodAndASleeper() {
         // One client floods commands, another never reads its (large, raw,
-        // full) frames: the observer still gets every frame in order, the
-        // sleeper is not disconnected but loses old frames, and simulated
-        // time keeps up with the wall clock.
+        // full) frames: the observer still gets every frame the server has
+        // for it, in order (none dropped for it; the engine renders no
+        // instant while the server is behind, so a slow machine skips
+        // instants for everyone), and the sleeper is not disconnected but
+        // loses old frames. The deadline only guards against a hang.
         Served served(kickoff(), RunMode::Realtime);
         auto observer = join(served.port(), helloJson("observer", "patches", "png", true));
         auto sleeper = join(served.port(), helloJson("blue", "full", "raw"));
         auto flooder = join(served.port(), helloJson("yellow", "none"));
         QVERIFY(observer && sleeper && flooder);
         sleeper->setReading(false);
-        QElapsedTimer wall;
-        wall.start();
+        QElapsedTimer deadline;
+        deadline.start();
         std::vector<std::uint32_t> frames;
-        double firstTime = -1, lastTime = 0;
-        while (wall.elapsed() < 1500) {
+        std::vector<double> times;
+        while (frames.size() < 50 && deadline.elapsed() < 60000) {
             QByteArray burst;
             for (int i = 0; i < 50; ++i)
                 burst += protocol::encodeMessage(MessageType::Voltages, protocol::encodeVoltages({{0, {7.0, -7.0}}}));
@@ -886,15 +902,20 @@ private slots:
                 if (r->message.type != std::uint8_t(MessageType::Frame)) continue;
                 const Frame f = decode(r->message);
                 frames.push_back(f.header.frame);
-                if (firstTime < 0) firstTime = f.header.time;
-                lastTime = f.header.time;
+                times.push_back(f.header.time);
             }
         }
-        QVERIFY2(frames.size() >= 25, qPrintable(QString::number(frames.size())));
-        for (std::size_t i = 1; i < frames.size(); ++i) QCOMPARE(frames[i], frames[i - 1] + 1);
-        // Simulated time kept pace with the frames' arrival (loosely: a
-        // loaded machine delays the reader, not the engine).
-        QVERIFY2(lastTime - firstTime > 0.7, qPrintable(QString::number(lastTime - firstTime)));
+        QVERIFY2(frames.size() >= 50, qPrintable(QString::number(frames.size())));
+        for (std::size_t i = 1; i < frames.size(); ++i) {
+            QVERIFY2(frames[i] > frames[i - 1], qPrintable(QString("frame %1 after %2").arg(frames[i]).arg(frames[i - 1])));
+            // A frame's time is its camera instant's.
+            QVERIFY2(std::abs(times[i] - times[i - 1] - 0.03 * (frames[i] - frames[i - 1])) < 1e-9,
+                     qPrintable(QString("frame %1 at %2 s, %3 at %4 s").arg(frames[i - 1]).arg(times[i - 1])
+                                    .arg(frames[i]).arg(times[i])));
+        }
+        for (const ClientInfo& c : served.server->clients()) {
+            if (c.role == "observer") QCOMPARE(c.framesDropped, std::int64_t{0});
+        }
         QCOMPARE(sleeper->socket().state(), QAbstractSocket::ConnectedState);
         observer->sendJson(MessageType::Control, controlJson("stats"));
         const auto reply = observer->nextOf(MessageType::Reply);
@@ -905,7 +926,12 @@ private slots:
     void observerFloodersDoNotStarveAReader() {
         // 32 observers send 2-byte messages of an unknown type in a loop and
         // never read (issue 12: 1.87 GB, and no STATE for 16.7 s). Each gets
-        // its ration of ERRORs, then silence; the reader is served on time.
+        // its ration of ERRORs, then silence; the reader keeps getting
+        // STATEs, in order, and never misses more than a second of the game.
+        // The engine runs on its own thread and both slow down on a slow
+        // machine: this compares the server's turns with the game's
+        // progress, not with the wall clock. The deadline only guards
+        // against a hang.
         Served served(kickoff(), RunMode::Realtime);
         auto observer = join(served.port(), helloJson("observer", "none", "png", true));
         QVERIFY(observer);
@@ -913,14 +939,37 @@ private slots:
         const QByteArray unknown("\x00\x00\x00\x02\x42\x00", 6);
         std::vector<std::unique_ptr<Flooder>> flooders;
         for (int i = 0; i < 32; ++i) flooders.push_back(std::make_unique<Flooder>(served.port(), hello, unknown));
-        const Watched w = watch(served, *observer, 3000);
+        int states = 0;
+        double lastTime = -1, worstJump = 0;
+        qint64 peakUnsent = 0, peakUnread = 0;
+        QElapsedTimer deadline;
+        deadline.start();
+        while (states < 100 && deadline.elapsed() < 60000) {
+            const auto r = observer->next(20);
+            if (r && r->message.type == std::uint8_t(MessageType::State)) {
+                const double time = jsonPayload(r->message)["time"].toDouble();
+                QVERIFY2(time > lastTime, qPrintable(QString("STATE at %1 s after one at %2 s").arg(time).arg(lastTime)));
+                if (lastTime >= 0) worstJump = std::max(worstJump, time - lastTime);
+                lastTime = time;
+                ++states;
+            }
+            qint64 unsent = 0, unread = 0;
+            for (const ClientInfo& c : served.server->clients()) {
+                unsent += c.unsentBytes;
+                unread += c.unreadBytes;
+            }
+            peakUnsent = std::max(peakUnsent, unsent);
+            peakUnread = std::max(peakUnread, unread);
+        }
         std::int64_t sent = 0;
         for (const auto& f : flooders) sent += f->bytesSent();
-        qInfo("flooders sent %.1f MB", 1e-6 * static_cast<double>(sent));
-        QVERIFY2(w.worstGapMs < 300, qPrintable(QString("no STATE for %1 ms").arg(w.worstGapMs)));
+        qInfo("flooders sent %.1f MB; %d STATEs, at most %.2f s of the game between two", 1e-6 * static_cast<double>(sent),
+              states, worstJump);
+        QCOMPARE(states, 100);
+        QVERIFY2(worstJump <= 1.0, qPrintable(QString("no STATE for %1 s of the game").arg(worstJump)));
         // Held for them: about 100 ERRORs each (10 kB) and what they sent that was not handled yet.
-        QVERIFY2(w.peakUnsent < (4 << 20), qPrintable(QString::number(w.peakUnsent)));
-        QVERIFY2(w.peakUnread < 33 * 3 * kReadAheadBytes, qPrintable(QString::number(w.peakUnread)));
+        QVERIFY2(peakUnsent < (4 << 20), qPrintable(QString::number(peakUnsent)));
+        QVERIFY2(peakUnread < 33 * 3 * kReadAheadBytes, qPrintable(QString::number(peakUnread)));
         int rationed = 0;
         for (const ClientInfo& c : served.server->clients()) rationed += c.errorsNotSent > 0 ? 1 : 0;
         QCOMPARE(rationed, 32);
@@ -1002,7 +1051,7 @@ private slots:
         qint64 peak = 0;
         QElapsedTimer wall;
         wall.start();
-        while (served.log.filter("for all its clients").size() < 2 && wall.elapsed() < 20000) {
+        while (served.log.filter("for all its clients").size() < 2 && wall.elapsed() < 60000) {  // a hang's guard
             QTest::qWait(5);
             qint64 total = 0;
             for (const ClientInfo& c : served.server->clients()) total += c.unsentBytes;
@@ -1495,8 +1544,11 @@ private slots:
         const QByteArray hello = protocol::encodeJsonMessage(MessageType::Hello, helloJson("yellow", "none"));
         Flooder flooder(served.port(), hello,
                         protocol::encodeMessage(MessageType::Voltages, protocol::encodeVoltages({{0, {5.0, 5.0}}})));
+        // The engine runs on its own thread: a stalled server shows as a gap
+        // in the game's time between two STATEs, whatever the machine's speed.
         const Watched w = watch(served, *observer, 3000);
-        QVERIFY2(w.worstGapMs < 300, qPrintable(QString("no STATE for %1 ms").arg(w.worstGapMs)));
+        QVERIFY(w.states > 0);
+        QVERIFY2(w.worstGameGapS <= 1.0, qPrintable(QString("no STATE for %1 s of the game").arg(w.worstGameGapS)));
         // The flood got through, coalesced: far fewer engine requests than messages.
         std::int64_t accepted = 0;
         for (const ClientInfo& c : served.server->clients())
