@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include "io/scene_io.h"
+#include "kickoff_scene.h"
 #include "net/client_requests.h"
 #include "wire/protocol.h"
 
@@ -18,18 +19,8 @@ namespace {
 
 using namespace vssim;
 
-const Scene& kickoff() {
-    static const Scene scene = [] {
-        QString error;
-        std::optional<Scene> s = loadSceneFile(QStringLiteral(":/scenes/kickoff_3v3.json"), &error);
-        if (!s) std::abort();
-        return *s;
-    }();
-    return scene;
-}
-
 void check(const protocol::Message& m) {
-    const Scene& scene = kickoff();
+    const Scene& scene = fuzz::kickoffScene();
     RequestError error;
     QString why;
     for (ClientRole role : {ClientRole::Yellow, ClientRole::Blue, ClientRole::Observer}) {

@@ -10,25 +10,12 @@
 #include "firasim/packet_reader.h"
 #include "firasim/team_roster.h"
 #include "io/scene_io.h"
-
-namespace {
+#include "kickoff_scene.h"
 
 using namespace vssim;
 
-const Scene& kickoff() {
-    static const Scene scene = [] {
-        QString error;
-        std::optional<Scene> s = loadSceneFile(QStringLiteral(":/scenes/kickoff_3v3.json"), &error);
-        if (!s) std::abort();
-        return *s;
-    }();
-    return scene;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const Scene& scene = kickoff();
+    const Scene& scene = fuzz::kickoffScene();
     static const TeamRoster roster(scene);
     static const WorldState current = initialWorldState(scene);
     std::vector<char> onField(scene.robots.size(), 1);

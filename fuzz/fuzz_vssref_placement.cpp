@@ -10,25 +10,12 @@
 #include "firasim/team_roster.h"
 #include "firasim/vssref_command.h"
 #include "io/scene_io.h"
-
-namespace {
+#include "kickoff_scene.h"
 
 using namespace vssim;
 
-const Scene& kickoff() {
-    static const Scene scene = [] {
-        QString error;
-        std::optional<Scene> s = loadSceneFile(QStringLiteral(":/scenes/kickoff_3v3.json"), &error);
-        if (!s) std::abort();
-        return *s;
-    }();
-    return scene;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const Scene& scene = kickoff();
+    const Scene& scene = fuzz::kickoffScene();
     static const TeamRoster roster(scene);
     VSSRef::team_to_ref::VSSRef_Placement message;
     if (!message.ParseFromArray(data, static_cast<int>(size)) || !message.has_world()) return 0;
