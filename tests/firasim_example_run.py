@@ -46,7 +46,8 @@ SCENE = {
 }
 SPEED = 4.0         # simulated seconds per wall second
 WALL_SECONDS = 8.0  # the example's --duration (32 s of simulated time): stopped once done
-MATCH_WALL_SECONDS = 40.0  # at most, for the match against the built-in team (160 s of simulated time)
+MATCH_WALL_SECONDS = 60.0  # at most, for the match against the built-in team (in lockstep: far more simulated)
+MATCH_SIMULATED_MS = 300_000  # the match stops after 300 s of simulated time at most
 # The match: the example's three blue robots on the left, as FIRASim places
 # blue, against vssim's built-in team with one robot, which keeps the goal at
 # x > 0 (a striker alone does not beat the built-in team's three robots).
@@ -144,7 +145,7 @@ class ExampleRun(unittest.TestCase):
                         "ball x from %.3f to at most %.3f" % (ball0.x, ball_x_max))
 
     def test_a_firasim_layout_team_scores_into_the_right_goal(self):
-        """A match as FIRASim-based software plays it: `vssim serve --firasim
+        """A match as FIRASim-based software plays it: `vssim serve --firasim-sync
         --vssref` with its defaults (blue on the left, FIRASim's layout), the
         built-in referee and the built-in yellow team (a goalkeeper); the
         example plays blue with FIRASim's conventions (it attacks x > 0,
@@ -154,10 +155,13 @@ class ExampleRun(unittest.TestCase):
         tmp = tempfile.TemporaryDirectory()
         self.addCleanup(tmp.cleanup)
         referee_port, placement_port, relay_port = common.free_ports(3)
-        server = common.Server(KEEPER_SCENE, "--speed", str(SPEED), "--blue", "tcp", "--yellow", "builtin",
+        # Lockstep on the example's commands (--firasim-sync): each of its
+        # answers advances one vision period, so the match does not depend on
+        # how fast this machine answers.
+        server = common.Server(KEEPER_SCENE, "--blue", "tcp", "--yellow", "builtin",
                                "--vssref", "--vssref-address", "127.0.0.1",
                                "--vssref-command-port", str(referee_port),
-                               "--vssref-placement-port", str(placement_port), sync=False, tmpdir=tmp.name)
+                               "--vssref-placement-port", str(placement_port), sync=True, tmpdir=tmp.name)
         self.addCleanup(server.close)
         example = subprocess.Popen(
             ["/usr/bin/python3", EXAMPLE, "--team", "blue", "--robot", "1", "--duration", str(MATCH_WALL_SECONDS),
@@ -169,6 +173,8 @@ class ExampleRun(unittest.TestCase):
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         self.addCleanup(lambda: example.poll() is None and example.kill())
         goals = []        # (scorer, ball x in the last vision before the score changed)
+        scored_at = None  # the vision's step (ms) when blue first scored
+        interrupted = False
         score = (0, 0)    # blue, yellow
         ball_x = 0.0
         ball_z = None
@@ -179,10 +185,18 @@ class ExampleRun(unittest.TestCase):
             if now != score:
                 goals.append(("blue" if now[0] > score[0] else "yellow", ball_x))
                 score = now
-                if now[0] >= 1:
-                    example.send_signal(signal.SIGINT)
+                if now[0] >= 1 and scored_at is None:
+                    scored_at = e.step
             if e.frame.HasField("ball"):
                 ball_x = e.frame.ball.x
+            # Two simulated seconds after blue's goal, into the stop for the
+            # kick-off that follows it (which the example answers with a
+            # placement; it may have missed the first one, sent before it
+            # listened), or after the longest match: stop the example.
+            done = scored_at is not None and e.step > scored_at + 2000
+            if (done or e.step > MATCH_SIMULATED_MS) and not interrupted:
+                example.send_signal(signal.SIGINT)  # once: the assertions below say what happened
+                interrupted = True
         output = example.communicate(timeout=10)[0].decode(errors="replace")
         log = server.log()
         print("goals (scorer, ball x just before): %s; example: %s" % (goals, output.strip().splitlines()[-1]),
@@ -190,7 +204,8 @@ class ExampleRun(unittest.TestCase):
         self.assertEqual(example.returncode, 0, output)
         self.assertIn("blue defends x < 0", log)
         self.assertAlmostEqual(ball_z, 0.02135, places=6)  # the ball's centre height, as FIRASim sends it
-        self.assertGreaterEqual(score[0], 1, "blue did not score in %s s of wall time: %s" % (MATCH_WALL_SECONDS, log))
+        self.assertGreaterEqual(score[0], 1, "blue did not score in %d s of simulated time: %s"
+                                % (MATCH_SIMULATED_MS // 1000, log))
         for scorer, x in goals:
             if scorer == "blue":
                 self.assertGreater(x, 0.7, "blue's goal was scored at x %.3f: not in the goal at x > 0" % x)
