@@ -478,7 +478,8 @@ private slots:
 
     void sidesSwapFromTheEditMenu() {
         // Edit > Blue defends the left goal: the match starts again with blue
-        // placed in the left half for the kick-off, yellow in the right.
+        // placed in the left half for the kick-off, yellow in the right (seen
+        // within the kick-off's 4 s stop, while the robots hold their places).
         MainWindow w(kickoffMatch(), ":/scenes/kickoff_3v3.json", anyPort());
         w.show();
         QVERIFY(QTest::qWaitForWindowExposed(&w));
@@ -494,7 +495,7 @@ private slots:
         QVERIFY(waitFor(w, [&](const Snapshot& s) { return inHalves(s, Team::Yellow); }));
         blueLeft->trigger();
         QCOMPARE(w.session().scene().game.rules.left_team, Team::Blue);
-        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.time < 0.5 && inHalves(s, Team::Blue); }));
+        QVERIFY(waitFor(w, [&](const Snapshot& s) { return s.time < 3.5 && inHalves(s, Team::Blue); }));
         blueLeft->trigger();
         QCOMPARE(w.session().scene().game.rules.left_team, Team::Yellow);
     }
