@@ -132,11 +132,11 @@ std::optional<MatchOptions> parseMatchOptions(const QStringList& arguments, QStr
     }
     if (parser.isSet(leftTeam)) {
         const QString text = parser.value(leftTeam);
-        if (text != "yellow" && text != "blue") {
+        o.leftTeam = teamFromName(text);
+        if (!o.leftTeam) {
             *error = QStringLiteral("--left-team: expected yellow or blue, got \"%1\"").arg(text);
             return std::nullopt;
         }
-        o.leftTeam = text == "yellow" ? Team::Yellow : Team::Blue;
     }
     o.json = parser.isSet(json);
     o.outPath = parser.value(out);

@@ -343,9 +343,9 @@ int serveCommand(const QStringList& arguments) {
     // FIRASim's layout (blue on the left) when FIRASim's interface is on.
     if (parser.isSet(leftTeam)) {
         const QString text = parser.value(leftTeam);
-        if (text != "yellow" && text != "blue")
-            return usage(QStringLiteral("--left-team: expected yellow or blue, got \"%1\"").arg(text));
-        scene->game.rules.left_team = text == "yellow" ? Team::Yellow : Team::Blue;
+        const std::optional<Team> team = teamFromName(text);
+        if (!team) return usage(QStringLiteral("--left-team: expected yellow or blue, got \"%1\"").arg(text));
+        scene->game.rules.left_team = *team;
     } else if (firasimOn && !sceneNamesLeftTeam(scenePath)) {
         scene->game.rules.left_team = Team::Blue;
     }

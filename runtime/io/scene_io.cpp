@@ -587,6 +587,7 @@ std::optional<Integrator> integratorFromName(const QString& name) { return value
 QString collisionModelName(CollisionModel model) { return nameOf(kCollisionModels, model); }
 std::optional<CollisionModel> collisionModelFromName(const QString& name) { return valueOf(kCollisionModels, name); }
 QString teamName(Team team) { return nameOf(kTeams, team); }
+std::optional<Team> teamFromName(const QString& name) { return valueOf(kTeams, name); }
 QString teamControlName(TeamControl control) { return nameOf(kTeamControls, control); }
 std::optional<TeamControl> teamControlFromName(const QString& name) { return valueOf(kTeamControls, name); }
 

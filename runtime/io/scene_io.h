@@ -36,7 +36,8 @@ QString integratorName(Integrator integrator);
 std::optional<Integrator> integratorFromName(const QString& name);
 QString collisionModelName(CollisionModel model);
 std::optional<CollisionModel> collisionModelFromName(const QString& name);
-QString teamName(Team team);
+QString teamName(Team team);  // "yellow", "blue"
+std::optional<Team> teamFromName(const QString& name);
 QString teamControlName(TeamControl control);  // "builtin", "remote", "idle"
 std::optional<TeamControl> teamControlFromName(const QString& name);
 QString fieldTypeName(FieldType type);
